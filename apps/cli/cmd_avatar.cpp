@@ -1,0 +1,102 @@
+// `caliper avatar` and `caliper render`: build an avatar from measurements and write it out.
+#include <iomanip>
+#include <iostream>
+
+#include "caliper/export/render.h"
+#include "common.h"
+
+namespace caliper::cli {
+
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  if (s.size() < suffix.size()) return false;
+  std::string tail = s.substr(s.size() - suffix.size());
+  for (auto& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return tail == suffix;
+}
+
+void print_summary(const BuiltAvatar& built, std::ostream& os) {
+  const Avatar& a = built.avatar;
+  os << "model " << built.model->name() << ", regressor " << a.regressor << ", shape "
+     << to_string(a.plausibility.overall) << " (" << a.plausibility.explanation << ")\n";
+  os << std::left << std::setw(26) << "measurement" << std::right << std::setw(12) << "requested" << std::setw(12)
+     << "achieved" << "\n";
+  for (const auto& [name, achieved] : a.achieved) {
+    const MeasurementInfo* info = find_measurement_info(name);
+    const double scale = info && info->unit == Unit::Kilogram ? 1.0 : 100.0;
+    const std::string unit = info ? edge_unit(*info) : "cm";
+    os << std::left << std::setw(26) << name << std::right << std::fixed << std::setprecision(2);
+    auto req = a.requested.find(name);
+    if (req != a.requested.end()) os << std::setw(9) << req->second * scale << " " << unit;
+    else os << std::setw(12) << "";
+    os << std::setw(9) << achieved * scale << " " << unit << "\n";
+  }
+}
+
+}  // namespace
+
+void register_avatar(CLI::App& app) {
+  auto opts = std::make_shared<BodyOptions>();
+  auto output = std::make_shared<std::string>();
+  auto report = std::make_shared<std::string>();
+  auto quiet = std::make_shared<bool>(false);
+  CLI::App* cmd = app.add_subcommand("avatar", "Build a rigged avatar from measurements and export it (.glb or .obj)");
+  add_body_options(*cmd, *opts, true);
+  cmd->add_option("-o,--output", *output, "output file: avatar.glb (rigged glTF 2.0 binary) or avatar.obj")->required();
+  cmd->add_option("--report", *report, "also write a JSON report (requested vs achieved measurements, shape, plausibility)");
+  cmd->add_flag("-q,--quiet", *quiet, "do not print the measurement table");
+  cmd->callback([=] {
+    if (!ends_with(*output, ".glb") && !ends_with(*output, ".obj"))
+      throw Error(ErrorKind::InvalidArgument, "--output must end in .glb or .obj, got '" + *output + "'", "--output");
+    BuiltAvatar built = build_avatar(*opts);
+    if (ends_with(*output, ".glb")) save_glb(*output, *built.model, built.avatar.rest_vertices);
+    else
+      write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(),
+                                    "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));
+    if (!report->empty()) write_file(*report, avatar_report_json(*built.model, built.avatar));
+    if (!*quiet) print_summary(built, std::cout);
+    std::cout << "wrote " << *output << (report->empty() ? "" : " and " + *report) << "\n";
+  });
+}
+
+void register_render(CLI::App& app) {
+  auto opts = std::make_shared<BodyOptions>();
+  auto output = std::make_shared<std::string>();
+  auto views = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"front", "side", "back", "three-quarter"});
+  auto width = std::make_shared<int>(480);
+  auto height = std::make_shared<int>(800);
+  auto mesh_file = std::make_shared<std::string>();
+  CLI::App* cmd = app.add_subcommand("render", "Render an avatar (or an OBJ mesh) to a PNG picture, several views side by side");
+  add_body_options(*cmd, *opts, true);
+  cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
+  cmd->add_option("-o,--output", *output, "output PNG file")->required();
+  cmd->add_option("--views", *views, "views: front, side, back, three-quarter")->delimiter(',')->capture_default_str();
+  cmd->add_option("--image-width", *width, "width of each view in pixels (64–4096)")->capture_default_str();
+  cmd->add_option("--image-height", *height, "height of each view in pixels (64–4096)")->capture_default_str();
+  cmd->callback([=] {
+    if (*width < 64 || *width > 4096) throw Error(ErrorKind::OutOfRange, "--image-width must be in [64, 4096]", "--image-width");
+    if (*height < 64 || *height > 4096) throw Error(ErrorKind::OutOfRange, "--image-height must be in [64, 4096]", "--image-height");
+    std::vector<View> vs;
+    for (const auto& v : *views) {
+      if (v == "front") vs.push_back(View::Front);
+      else if (v == "side") vs.push_back(View::Side);
+      else if (v == "back") vs.push_back(View::Back);
+      else if (v == "three-quarter" || v == "3/4" || v == "threequarter") vs.push_back(View::ThreeQuarter);
+      else throw Error(ErrorKind::InvalidArgument, "unknown view '" + v + "' (front, side, back, three-quarter)", "--views");
+    }
+    RenderOptions ro;
+    ro.width = *width;
+    ro.height = *height;
+    if (!mesh_file->empty()) {
+      Mesh m = read_obj(*mesh_file);
+      write_file(*output, render_views_png(m.vertices, m.faces, vs, ro));
+    } else {
+      BuiltAvatar built = build_avatar(*opts);
+      write_file(*output, render_views_png(built.avatar.rest_vertices, built.model->faces(), vs, ro));
+    }
+    std::cout << "wrote " << *output << "\n";
+  });
+}
+
+}  // namespace caliper::cli

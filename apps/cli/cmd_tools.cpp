@@ -1,0 +1,192 @@
+// `caliper measure`, `caliper model`, `caliper isak`, `caliper map`.
+#include <filesystem>
+#include <thread>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "caliper/mannequin/population.h"
+#include "common.h"
+
+namespace caliper::cli {
+
+namespace {
+
+void print_measurements(const std::map<std::string, double>& values, bool json) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const auto& [name, v] : values) {
+    const MeasurementInfo* info = find_measurement_info(name);
+    const bool kg = info && info->unit == Unit::Kilogram;
+    const double edge = kg ? v : v * 100;
+    if (json) j[name + (kg ? "_kg" : "_cm")] = std::round(edge * 1000) / 1000;
+    else std::cout << std::left << std::setw(28) << name << std::right << std::fixed << std::setprecision(2) << std::setw(9)
+                   << edge << " " << (kg ? "kg" : "cm") << "\n";
+  }
+  if (json) std::cout << j.dump(2) << "\n";
+}
+
+}  // namespace
+
+void register_measure(CLI::App& app) {
+  auto opts = std::make_shared<BodyOptions>();
+  auto mesh_file = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  CLI::App* cmd = app.add_subcommand("measure",
+      "Measure a body: a model at given shape values (--beta) or measurements, or a closed OBJ mesh (--mesh)");
+  add_body_options(*cmd, *opts, true);
+  cmd->add_option("--mesh", *mesh_file, "a closed OBJ mesh in metres: stature, volume and weight from volume");
+  cmd->add_flag("--json", *json, "print JSON instead of a table");
+  cmd->callback([=] {
+    if (!mesh_file->empty()) {
+      Mesh m = read_obj(*mesh_file);
+      MeshMeasurements mm = measure_mesh(m, WeightFromVolume::paper(parse_sex(opts->sex)));
+      if (*json) {
+        nlohmann::ordered_json j = {{"stature_cm", mm.stature * 100}, {"volume_l", mm.volume * 1000}, {"weight_kg", mm.weight}};
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::cout << std::fixed << std::setprecision(2) << "stature  " << mm.stature * 100 << " cm\nvolume   "
+                  << mm.volume * 1000 << " L\nweight   " << mm.weight << " kg (paper's " << opts->sex
+                  << " volume→weight fit)\n";
+      }
+      return;
+    }
+    BuiltAvatar built = build_avatar(*opts);
+    print_measurements(built.avatar.achieved, *json);
+  });
+}
+
+void register_model(CLI::App& app) {
+  CLI::App* cmd = app.add_subcommand("model", "Inspect body models");
+  cmd->require_subcommand(1);
+  auto name = std::make_shared<std::string>("mannequin");
+  auto sex = std::make_shared<std::string>("female");
+  auto json = std::make_shared<bool>(false);
+  CLI::App* info = cmd->add_subcommand("info", "Vertex, face, joint and shape-direction counts, landmarks, measurements");
+  info->add_option("model", *name, "model name or .npz path (native or SMPL)")->capture_default_str();
+  info->add_option("--sex", *sex, "variant of a model family")->capture_default_str();
+  info->add_flag("--json", *json, "print JSON");
+  info->callback([=] {
+    const BodyModel m = load_model(*name, parse_sex(*sex));
+    const auto& d = m.data();
+    nlohmann::ordered_json j;
+    j["name"] = m.name();
+    j["sex"] = to_string(m.sex());
+    j["vertices"] = m.vertex_count();
+    j["faces"] = m.face_count();
+    j["joints"] = m.joint_count();
+    j["shape_directions"] = m.shape_count();
+    j["joint_names"] = d.joint_names;
+    j["weight_from_volume"] = {{"a", d.weight_from_volume.a}, {"b", d.weight_from_volume.b}};
+    j["landmarks"] = nlohmann::ordered_json::object();
+    for (const auto& [l, v] : d.landmarks) j["landmarks"][l] = v;
+    j["measurements"] = nlohmann::ordered_json::array();
+    for (const auto& md : d.measurements) j["measurements"].push_back(md.name);
+    j["metadata"] = d.metadata;
+    if (*json) { std::cout << j.dump(2) << "\n"; return; }
+    std::cout << "model             " << m.name() << " (" << to_string(m.sex()) << ")\n"
+              << "vertices          " << m.vertex_count() << "\nfaces             " << m.face_count()
+              << "\njoints            " << m.joint_count() << "\nshape directions  " << m.shape_count()
+              << "\nweight = " << d.weight_from_volume.a << " · volume + " << d.weight_from_volume.b << "\nlandmarks (" << d.landmarks.size() << ")  ";
+    for (const auto& [l, v] : d.landmarks) std::cout << l << " ";
+    std::cout << "\nmeasurements (" << d.measurements.size() << ")  ";
+    for (const auto& md : d.measurements) std::cout << md.name << " ";
+    std::cout << "\n";
+    for (const auto& [k, v] : d.metadata) std::cout << k << ": " << v << "\n";
+  });
+  auto ansur = std::make_shared<std::string>("../shared/data/ansur2");
+  auto out = std::make_shared<std::string>();
+  auto components = std::make_shared<int>(10);
+  auto build_sex = std::make_shared<std::string>("female");
+  CLI::App* build = cmd->add_subcommand("build", "Build a body model from data (kind: mannequin)");
+  auto kind = std::make_shared<std::string>();
+  build->add_option("kind", *kind, "mannequin: Caliper's own body, one generated body per ANSUR II subject, then PCA")
+      ->required()->check(CLI::IsMember({"mannequin"}));
+  build->add_option("--ansur", *ansur, "folder with ANSUR_II_{FEMALE,MALE}*.csv, or one CSV file")->capture_default_str();
+  build->add_option("--sex", *build_sex, "female, male or neutral (both sexes)")->capture_default_str();
+  build->add_option("--components", *components, "shape directions kept, K (1–64)")->capture_default_str();
+  build->add_option("-o,--output", *out, "model file to write (.npz)")->required();
+  build->callback([=] {
+    const Sex sex = parse_sex(*build_sex);
+    std::vector<AnsurSubject> subjects;
+    namespace fs = std::filesystem;
+    std::vector<std::string> files;
+    if (fs::is_directory(*ansur)) {
+      for (const auto& e : fs::directory_iterator(*ansur))
+        if (e.path().extension() == ".csv") files.push_back(e.path().string());
+      std::sort(files.begin(), files.end());
+      if (files.empty()) throw Error(ErrorKind::Io, "no .csv files in '" + *ansur + "'", "--ansur");
+    } else {
+      files.push_back(*ansur);
+    }
+    for (const auto& f : files) {
+      auto part = read_ansur_csv(f);
+      std::cerr << "read " << part.size() << " subjects from " << f << "\n";
+      subjects.insert(subjects.end(), part.begin(), part.end());
+    }
+    mannequin::PopulationOptions po;
+    po.components = *components;
+    po.threads = std::max(1u, std::thread::hardware_concurrency());
+    po.progress = [](int done, int total) {
+      const int width = 40, filled = total ? done * width / total : width;
+      std::cerr << "\rgenerating bodies [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << done
+                << "/" << total << std::flush;
+      if (done == total) std::cerr << "\n";
+    };
+    mannequin::PopulationReport rep;
+    BodyModel model = mannequin::build_mannequin_model(subjects, sex, po, &rep);
+    save_model(model, *out);
+    std::cout << "built " << model.name() << " from " << rep.subjects << " subjects: " << model.vertex_count()
+              << " vertices, K = " << model.shape_count() << " (" << std::fixed << std::setprecision(1)
+              << rep.total_explained * 100 << " % of shape variance)\n"
+              << std::setprecision(2) << "weight from volume: fitted a = " << rep.fitted.a << ", b = " << rep.fitted.b
+              << " (MAE " << rep.weight_mae_fitted_kg << " kg); paper's CAESAR coefficients: MAE "
+              << rep.weight_mae_paper_kg << " kg, bias " << rep.weight_bias_paper_kg << " kg\n"
+              << "wrote " << *out << "\n";
+  });
+  CLI::App* list = cmd->add_subcommand("list", "List the models in the models folder");
+  list->callback([] {
+    const std::string dir = models_dir();
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+      if (e.path().extension() == ".npz") names.push_back(e.path().stem().string());
+    std::sort(names.begin(), names.end());
+    std::cout << "models in " << dir << ":\n";
+    for (const auto& n : names) std::cout << "  " << n << "\n";
+  });
+}
+
+void register_isak(CLI::App& app) {
+  auto values = std::make_shared<std::vector<double>>();
+  CLI::App* cmd = app.add_subcommand("isak",
+      "Combine repeated measurements by the ISAK rule: two within 1.5 % → their mean, else the median of three");
+  cmd->add_option("values", *values, "2 or 3 repetitions of one measurement (any unit)")->required()->expected(2, 3);
+  cmd->callback([=] {
+    IsakResult r = isak_combine(*values);
+    std::cout << std::fixed << std::setprecision(3) << "difference of the first two: " << r.relative_difference * 100 << " %\n";
+    if (r.value) std::cout << "rule: " << to_string(r.rule) << "\nvalue: " << *r.value << "\n";
+    else {
+      std::cout << "rule: need_third (they differ by 1.5 % or more: take a third measurement)\n";
+    }
+  });
+}
+
+void register_map(CLI::App& app) {
+  CLI::App* cmd = app.add_subcommand("map", "Real → virtual measurement maps (paper §3.3)");
+  cmd->require_subcommand(1);
+  auto csv = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  CLI::App* fit = cmd->add_subcommand("fit", "Fit one linear map per measurement from a CSV: measurement,real_cm,virtual_cm");
+  fit->add_option("pairs", *csv, "CSV of paired values")->required();
+  fit->add_option("-o,--output", *out, "map file to write (JSON)")->required();
+  fit->callback([=] {
+    RealToVirtual r = RealToVirtual::fit_csv(*csv);
+    r.save(*out);
+    for (const auto& [name, m] : r.maps())
+      std::cout << name << ": virtual = " << m.slope << " · real + " << m.offset * 100 << " cm  (" << m.pairs
+                << " pairs, rmse " << m.rmse * 100 << " cm)\n";
+    std::cout << "wrote " << *out << "\n";
+  });
+}
+
+}  // namespace caliper::cli

@@ -1,0 +1,98 @@
+#include "common.h"
+
+#include <fstream>
+#include <iostream>
+
+namespace caliper::cli {
+
+int exit_code_for(const Error& e) {
+  switch (e.kind()) {
+    case ErrorKind::InvalidArgument:
+    case ErrorKind::OutOfRange: return kBadValue;
+    case ErrorKind::Io:
+    case ErrorKind::Format: return kBadFile;
+    case ErrorKind::Unsupported: return kUnsupported;
+  }
+  return kInternal;
+}
+
+namespace {
+// A measurement option: "--stature CM" plus aliases; the value is checked later so the error can
+// name the field and the accepted range.
+void add_measurement(CLI::App& app, BodyOptions& opts, const std::string& name, const std::string& flags) {
+  const MeasurementInfo* info = find_measurement_info(name);
+  const std::string help = info->label + " (" + edge_unit(*info) + ", " + std::to_string(int(info->min_edge)) + "–" +
+                           std::to_string(int(info->max_edge)) + ")";
+  app.add_option_function<double>(flags, [&opts, name](const double& v) { opts.values[name] = v; }, help)
+      ->type_name(edge_unit(*info) == std::string("kg") ? "KG" : "CM");
+}
+}  // namespace
+
+void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta) {
+  app.add_option("--sex", opts.sex, "female, male or neutral")->capture_default_str();
+  app.add_option("--model", opts.model, "body model: a name in the models folder (see `caliper model list`) or a .npz path")
+      ->capture_default_str();
+  app.add_option("--regressor", opts.regressor,
+                 "R2, R4, R5, R6, auto (largest preset the given values allow), or a comma list of measurements")
+      ->capture_default_str();
+  add_measurement(app, opts, "stature", "--stature,--height");
+  add_measurement(app, opts, "weight", "--weight");
+  add_measurement(app, opts, "span", "--span,--arm-span");
+  add_measurement(app, opts, "crotch_height", "--crotch-height,--inseam");
+  add_measurement(app, opts, "hip_breadth", "--hip-breadth,--hip-width");
+  add_measurement(app, opts, "arm_length", "--arm-length");
+  app.add_option("--set", opts.extra, "any other measurement as NAME=VALUE (cm or kg), e.g. chest_circumference=95")
+      ->type_name("NAME=VALUE");
+  app.add_option("--map", opts.map_file, "real-to-virtual map (JSON, see `caliper map fit`) applied to the inputs");
+  if (allow_beta)
+    app.add_option("--beta", opts.beta, "shape values instead of measurements (comma separated)")->delimiter(',');
+}
+
+BuiltAvatar build_avatar(const BodyOptions& opts) {
+  const Sex sex = parse_sex(opts.sex);
+  BuiltAvatar out;
+  std::map<std::string, double> edge = opts.values;
+  for (const auto& kv : opts.extra) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw Error(ErrorKind::InvalidArgument, "--set expects NAME=VALUE, got '" + kv + "'", "--set");
+    const std::string name = kv.substr(0, eq), text = kv.substr(eq + 1);
+    double v = 0;
+    try {
+      size_t used = 0;
+      v = std::stod(text, &used);
+      if (used != text.size()) throw std::invalid_argument("trailing");
+    } catch (const std::exception&) {
+      throw Error(ErrorKind::InvalidArgument, name + " must be a number, got '" + text + "'", name);
+    }
+    edge[name] = v;
+  }
+  // Values are checked before the model is loaded, so a bad value is reported as such.
+  std::map<std::string, double> si = measurements_from_edge(edge);
+  out.model = std::make_shared<const BodyModel>(load_model(opts.model, sex));
+  if (!opts.beta.empty()) {
+    if (!edge.empty())
+      throw Error(ErrorKind::InvalidArgument, "give either --beta or measurements, not both", "--beta");
+    Eigen::VectorXd beta = Eigen::Map<const Eigen::VectorXd>(opts.beta.data(), static_cast<Eigen::Index>(opts.beta.size()));
+    Avatar& a = out.avatar;
+    a.regressor = "none (beta given)";
+    a.beta = beta;
+    a.rest_vertices = out.model->rest_vertices(beta);
+    a.joints = out.model->joints(a.rest_vertices);
+    a.plausibility = judge_plausibility(beta);
+    a.achieved = measure_all(*out.model, a.rest_vertices);
+    return out;
+  }
+  if (!opts.map_file.empty()) RealToVirtual::load(opts.map_file).apply(si);
+  AvatarBuilder builder(out.model);
+  out.avatar = builder.build({si, opts.regressor});
+  return out;
+}
+
+void write_file(const std::string& path, const std::string& bytes) {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw Error(ErrorKind::Io, "cannot write '" + path + "'", path);
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!f) throw Error(ErrorKind::Io, "failed writing '" + path + "'", path);
+}
+
+}  // namespace caliper::cli

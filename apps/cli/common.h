@@ -1,0 +1,53 @@
+// Shared pieces of the `caliper` command-line client: exit codes, option groups, file output.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "caliper/caliper.h"
+
+namespace caliper::cli {
+
+// Exit codes (docs/cli.md): distinct per failure kind so scripts can react.
+enum ExitCode : int {
+  kOk = 0,
+  kInternal = 1,
+  kUsage = 2,          // bad options or arguments
+  kBadValue = 3,       // NaN, negative, out-of-range or otherwise invalid value
+  kBadFile = 4,        // unreadable, unwritable, malformed or truncated file
+  kUnsupported = 5,    // valid request the model cannot serve (e.g. measurement it lacks)
+};
+int exit_code_for(const Error& e);
+
+// The measurement options shared by `avatar` and `render`.
+struct BodyOptions {
+  std::string sex = "female";
+  std::string model = "mannequin";
+  std::string regressor = "auto";
+  std::map<std::string, double> values;     // canonical name → edge value (cm / kg)
+  std::vector<std::string> extra;           // --set name=value
+  std::string map_file;                     // real-to-virtual map
+  std::vector<double> beta;                 // explicit shape instead of measurements
+};
+void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta);
+
+// Loads the model and builds the avatar the options describe (β given, or regressed).
+struct BuiltAvatar {
+  std::shared_ptr<const BodyModel> model;
+  Avatar avatar;
+};
+BuiltAvatar build_avatar(const BodyOptions& opts);
+
+void write_file(const std::string& path, const std::string& bytes);
+
+void register_avatar(CLI::App& app);
+void register_measure(CLI::App& app);
+void register_model(CLI::App& app);
+void register_isak(CLI::App& app);
+void register_map(CLI::App& app);
+void register_render(CLI::App& app);
+
+}  // namespace caliper::cli

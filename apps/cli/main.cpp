@@ -1,0 +1,31 @@
+// caliper — measurements in, rigged avatars out. See `caliper --help` and docs/cli.md.
+#include <iostream>
+
+#include "common.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Caliper: metrically accurate, rigged 3D avatars from a few body measurements.\n"
+               "Lengths are in centimetres and weight in kilograms at the command line."};
+  app.set_version_flag("--version", std::string("caliper ") + CALIPER_CLI_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough(false);
+  caliper::cli::register_avatar(app);
+  caliper::cli::register_render(app);
+  caliper::cli::register_measure(app);
+  caliper::cli::register_model(app);
+  caliper::cli::register_isak(app);
+  caliper::cli::register_map(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : caliper::cli::kUsage;
+  } catch (const caliper::Error& e) {
+    std::cerr << "caliper: " << e.what() << "\n";
+    return caliper::cli::exit_code_for(e);
+  } catch (const std::exception& e) {
+    std::cerr << "caliper: internal error: " << e.what() << "\n";
+    return caliper::cli::kInternal;
+  }
+  return 0;
+}

@@ -1,0 +1,81 @@
+// The linear body model (paper §3.4.1; SMPL, Loper et al. 2015, without pose correctives):
+//   rest vertices T(β) = T̄ + S·β,   joints J(β) = J_reg · T(β),
+// a kinematic tree of named joints and linear-blend-skinning weights.
+// A BodyModel is immutable once built and shared by every body made from it; a Body is the cheap
+// per-person value (β and the vertices and joints it yields).
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "caliper/body/mesh.h"
+#include "caliper/measure/definitions.h"
+
+namespace caliper {
+
+enum class Sex { Female, Male, Neutral };
+const char* to_string(Sex sex);
+Sex parse_sex(const std::string& text);  // "female"|"male"|"neutral" (also f/m/n); throws Error
+
+// weight_kg = a · volume_m3 + b  (paper §3.4.2). The paper's fit on CAESAR is the default.
+struct WeightFromVolume {
+  double a = 1028.94;  // kg per m³
+  double b = -3.82;    // kg
+  static WeightFromVolume paper(Sex sex);  // female 1001.44/−2.36, male 1056.44/−5.28, neutral their mean
+};
+
+// The 24 joints of SMPL, in SMPL's order. Our own models use these names and this order.
+const std::vector<std::string>& smpl_joint_names();
+const std::vector<int>& smpl_parents();  // parent index per joint, −1 for the root (pelvis)
+
+struct BodyModelData {
+  std::string name;                    // e.g. "mannequin-female"
+  Sex sex = Sex::Neutral;
+  Vertices template_vertices;          // N×3 mean rest shape T̄, metres, T-pose, feet on y = 0
+  Faces faces;                         // F×3
+  Eigen::MatrixXd shape_directions;    // 3N×K, row 3v+c = coordinate c of vertex v; β ~ N(0, I)
+  Eigen::SparseMatrix<double, Eigen::RowMajor> joint_regressor;  // J×N, rows sum to 1
+  std::vector<std::string> joint_names;                           // J
+  std::vector<int> parents;                                       // J, −1 for the root
+  Eigen::SparseMatrix<double, Eigen::RowMajor> skin_weights;      // N×J, rows sum to 1
+  std::map<std::string, int> landmarks;                           // name → vertex index
+  std::vector<MeasurementDefinition> measurements;                // what this model can measure
+  WeightFromVolume weight_from_volume;
+  std::map<std::string, std::string> metadata;                    // licence, source, version…
+};
+
+class BodyModel {
+ public:
+  // Validates shapes, indices and sums; throws Error(Format) naming the array on inconsistency.
+  explicit BodyModel(BodyModelData data);
+
+  const BodyModelData& data() const { return data_; }
+  const std::string& name() const { return data_.name; }
+  Sex sex() const { return data_.sex; }
+  int vertex_count() const { return static_cast<int>(data_.template_vertices.rows()); }
+  int face_count() const { return static_cast<int>(data_.faces.rows()); }
+  int joint_count() const { return static_cast<int>(data_.joint_names.size()); }
+  int shape_count() const { return static_cast<int>(data_.shape_directions.cols()); }
+  const Faces& faces() const { return data_.faces; }
+
+  // Landmark vertex index; throws Error(Unsupported) naming the landmark if the model lacks it.
+  int landmark(const std::string& name) const;
+  const MeasurementDefinition* find_measurement(const std::string& name) const;
+
+  // Rest vertices T(β), N×3. β may be shorter than K (missing values are 0); longer throws.
+  Vertices rest_vertices(const Eigen::VectorXd& beta) const;
+  void rest_vertices(const Eigen::VectorXd& beta, Vertices& out) const;  // no allocation when sized
+  // Joints J(β), J×3, from rest vertices.
+  Eigen::MatrixX3d joints(const Vertices& rest) const;
+
+  // A copy of this model keeping only the first k shape directions (1 ≤ k ≤ K).
+  BodyModel truncated(int k) const;
+
+ private:
+  BodyModelData data_;
+};
+
+}  // namespace caliper

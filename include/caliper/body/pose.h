@@ -1,0 +1,29 @@
+// Linear blend skinning with an SMPL-style pose: one axis-angle rotation per joint (radians),
+// relative to the parent, applied about the joint's rest position; joint 0's is the global
+// orientation. Pose correctives are not used (SPEC §3).
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "caliper/body/body_model.h"
+
+namespace caliper {
+
+using Pose = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;  // J×3 axis-angle, radians
+
+Pose zero_pose(const BodyModel& model);  // the rest pose (our models' rest is a T-pose)
+Pose t_pose(const BodyModel& model);     // same as zero_pose: arms horizontal
+// Arms lowered by `degrees` from horizontal at the shoulders (45° is the usual A-pose).
+Pose a_pose(const BodyModel& model, double degrees = 45.0);
+
+// World transforms of every joint for a pose, given rest joints (J×3). 4×4 each.
+std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model,
+                                                    const Eigen::MatrixX3d& rest_joints,
+                                                    const Pose& pose);
+
+// Posed vertices (N×3) by linear blend skinning of rest vertices. Throws Error(InvalidArgument)
+// if the pose has the wrong number of rows or a non-finite value.
+Vertices pose_vertices(const BodyModel& model, const Vertices& rest, const Pose& pose);
+
+}  // namespace caliper

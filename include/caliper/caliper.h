@@ -1,0 +1,17 @@
+// Caliper's public API: include this or the stage headers it lists.
+#pragma once
+#include "caliper/errors.h"
+#include "caliper/body/mesh.h"
+#include "caliper/body/body_model.h"
+#include "caliper/body/pose.h"
+#include "caliper/io/model_files.h"
+#include "caliper/measure/catalogue.h"
+#include "caliper/measure/definitions.h"
+#include "caliper/measure/geometry.h"
+#include "caliper/measure/measure.h"
+#include "caliper/regress/regressor.h"
+#include "caliper/protocol/isak.h"
+#include "caliper/protocol/real_to_virtual.h"
+#include "caliper/avatar.h"
+#include "caliper/export/gltf.h"
+#include "caliper/export/report.h"

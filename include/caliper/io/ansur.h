@@ -1,0 +1,32 @@
+// ANSUR II anthropometry CSV files (public format; ../shared/data/ansur2/README.md): header
+// names case-insensitive, Latin-1, CRLF or LF, last line with or without newline, lengths in
+// mm, `weightkg` in tenths of kg, `interpupillarybreadth` in tenths of mm, sex from `Gender`.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "caliper/body/body_model.h"
+
+namespace caliper {
+
+struct AnsurSubject {
+  std::string id;
+  Sex sex = Sex::Neutral;
+  std::map<std::string, double> values;  // lowercase column → value in SI (m, kg)
+};
+
+// Reads every row. Numeric columns are converted to SI; text columns other than Gender and the
+// id are ignored. Throws Error(Io) if unreadable, Error(Format) naming line and column for a
+// ragged row, a non-numeric measurement or a missing Gender/stature column.
+std::vector<AnsurSubject> read_ansur_csv(const std::string& path);
+std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::string& source_name);
+
+// SI value of a raw ANSUR number for a column (mm → m; weightkg/10 → kg; interpupillary /10 mm).
+double ansur_to_si(const std::string& column, double raw);
+
+// The six Virtual Caliper inputs of a subject, by Caliper's canonical names, SI:
+// stature, weight, span, crotch_height, hip_breadth, arm_length (acromion–radiale + radiale–stylion).
+std::map<std::string, double> virtual_caliper_inputs(const AnsurSubject& subject);
+
+}  // namespace caliper

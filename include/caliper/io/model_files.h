@@ -1,0 +1,37 @@
+// Model files: Caliper's native .npz format (docs/model-format.md) and SMPL / SMPL-X .npz
+// files as users have them (arrays in SPEC.md). Models are found by name in the models folder.
+#pragma once
+#include <optional>
+#include <string>
+
+#include "caliper/body/body_model.h"
+
+namespace caliper {
+
+void save_model(const BodyModel& model, const std::string& path);
+BodyModel load_native_model(const std::string& path);
+
+struct SmplLoadOptions {
+  int shape_count = 10;  // how many shape directions to keep (1..400, ≤ what the file has)
+  Sex sex = Sex::Neutral;
+  std::string name;      // defaults to the file name
+};
+// SMPL / SMPL-X: v_template, shapedirs (N×3×K), J_regressor (dense J×N, or sparse as
+// J_regressor_{data,indices,indptr,shape} CSR/CSC), weights (N×J), kintree_table (2×J), f.
+// Landmarks and measurement definitions for SMPL's 6890-vertex topology are attached
+// (landmarks/smpl.json) when the topology matches.
+BodyModel load_smpl_model(const std::string& path, const SmplLoadOptions& options = {});
+
+// Loads by file path (native or SMPL, detected by the arrays inside) or by model name
+// ("mannequin", "mannequin-female", …) looked up in the models folder. The sex picks the
+// variant for a family name: "mannequin" + female → "mannequin-female".
+BodyModel load_model(const std::string& name_or_path, Sex sex);
+
+// Landmarks and measurement definitions for SMPL's 6890-vertex topology: the JSON text of
+// landmarks/smpl.json, compiled into the library so installed binaries need no data folder.
+const std::string& smpl_landmarks_json();
+
+// Folder holding the committed models: $CALIPER_MODELS_DIR, else the build-time default.
+std::string models_dir();
+
+}  // namespace caliper

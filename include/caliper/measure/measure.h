@@ -1,0 +1,26 @@
+// Measuring a body of a model: every definition the model carries, on given rest vertices.
+#pragma once
+#include <map>
+#include <string>
+
+#include "caliper/body/body_model.h"
+
+namespace caliper {
+
+// Value of one definition on rest vertices of `model` (N×3). SI units (m, kg).
+// Throws Error(Unsupported) if a section finds no loop (e.g. a landmark off the surface).
+double measure(const BodyModel& model, const MeasurementDefinition& definition, const Vertices& rest);
+
+// All of the model's measurements, by name, SI units.
+std::map<std::string, double> measure_all(const BodyModel& model, const Vertices& rest);
+
+// What can be measured on a bare mesh without landmarks: stature (vertical extent), volume (m³)
+// and weight by the given coefficients. Throws Error(Format) if the mesh is not closed.
+struct MeshMeasurements {
+  double stature = 0;
+  double volume = 0;
+  double weight = 0;
+};
+MeshMeasurements measure_mesh(const Mesh& mesh, const WeightFromVolume& coefficients);
+
+}  // namespace caliper

@@ -1,0 +1,116 @@
+// The pipeline behind `caliper avatar`: measurements → regressor → β → body → measurements.
+#include "caliper/avatar.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "caliper/errors.h"
+#include "caliper/measure/catalogue.h"
+#include "caliper/measure/measure.h"
+
+namespace caliper {
+
+AvatarBuilder::AvatarBuilder(std::shared_ptr<const BodyModel> model) : model_(std::move(model)) {
+  if (!model_) throw Error(ErrorKind::InvalidArgument, "no body model", "model");
+}
+
+namespace {
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (item.empty()) continue;
+    const MeasurementInfo* info = find_measurement_info(item);
+    if (!info) throw Error(ErrorKind::InvalidArgument, "unknown measurement '" + item + "' in the regressor's inputs", "regressor");
+    out.push_back(info->name);
+  }
+  return out;
+}
+
+}  // namespace
+
+const Regressor& AvatarBuilder::regressor(const std::string& name, const std::vector<std::string>& inputs) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = regressors_.find(name);
+  if (it != regressors_.end()) return *it->second;
+  for (const auto& m : inputs)
+    if (!model_->find_measurement(m))
+      throw Error(ErrorKind::Unsupported, "model '" + model_->name() + "' cannot measure '" + m + "'", m);
+  // The corner design grows by the columns a new regressor needs; bodies are rebuilt only for them.
+  std::vector<std::string> missing;
+  for (const auto& m : inputs)
+    if (!design_ || std::find(design_->feature_names.begin(), design_->feature_names.end(), m) == design_->feature_names.end())
+      missing.push_back(m);
+  if (!missing.empty()) {
+    CornerDesign extra = build_corner_design(*model_, missing);
+    if (!design_) {
+      design_ = std::make_unique<CornerDesign>(std::move(extra));
+    } else {
+      const Eigen::Index old = design_->features.cols();
+      design_->features.conservativeResize(Eigen::NoChange, old + extra.features.cols());
+      design_->features.rightCols(extra.features.cols()) = extra.features;
+      design_->feature_names.insert(design_->feature_names.end(), missing.begin(), missing.end());
+    }
+  }
+  auto r = std::make_unique<Regressor>(*design_, inputs, name);
+  const Regressor& ref = *r;
+  regressors_[name] = std::move(r);
+  return ref;
+}
+
+Avatar AvatarBuilder::build(const AvatarRequest& request) const {
+  std::vector<std::string> known;
+  for (const auto& [name, value] : request.measurements) known.push_back(name);
+  Avatar avatar;
+  std::string key = request.regressor;
+  std::vector<std::string> inputs;
+  std::string upper = key;
+  for (auto& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  if (upper == "AUTO") {
+    key = auto_preset(known);
+    inputs = preset_inputs(key);
+  } else if (upper.size() == 2 && upper[0] == 'R') {
+    key = upper;
+    inputs = preset_inputs(key);
+  } else {
+    // Any other subset: "custom:stature,weight,chest_circumference" or the bare list.
+    const std::string list = key.rfind("custom:", 0) == 0 ? key.substr(7) : key;
+    inputs = split_list(list);
+    if (inputs.empty()) throw Error(ErrorKind::InvalidArgument, "unknown regressor '" + request.regressor + "'", "regressor");
+    std::sort(inputs.begin(), inputs.end());
+    inputs.erase(std::unique(inputs.begin(), inputs.end()), inputs.end());
+    key = "custom:";
+    for (size_t i = 0; i < inputs.size(); ++i) key += (i ? "," : "") + inputs[i];
+  }
+  for (const auto& m : inputs)
+    if (!request.measurements.count(m))
+      throw Error(ErrorKind::Unsupported, "regressor " + key + " needs " + m + ", which was not given", m);
+  const Regressor& r = regressor(key, inputs);
+  avatar.regressor = key;
+  avatar.inputs = inputs;
+  avatar.beta = r.predict(*model_, request.measurements);
+  avatar.rest_vertices = model_->rest_vertices(avatar.beta);
+  avatar.joints = model_->joints(avatar.rest_vertices);
+  avatar.plausibility = judge_plausibility(avatar.beta);
+  avatar.requested = request.measurements;
+  avatar.achieved = measure_all(*model_, avatar.rest_vertices);
+  return avatar;
+}
+
+std::map<std::string, double> measurements_from_edge(const std::map<std::string, double>& edge_values) {
+  std::map<std::string, double> si;
+  for (const auto& [name, value] : edge_values) {
+    const MeasurementInfo* info = find_measurement_info(name);
+    if (!info) throw Error(ErrorKind::InvalidArgument, "unknown measurement '" + name + "'", name);
+    if (si.count(info->name))
+      throw Error(ErrorKind::InvalidArgument, info->name + " was given twice (as '" + name + "' and another alias)", info->name);
+    si[info->name] = edge_to_si(*info, value);
+  }
+  return si;
+}
+
+}  // namespace caliper

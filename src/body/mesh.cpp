@@ -1,0 +1,86 @@
+#include "caliper/body/mesh.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <unordered_map>
+#include <vector>
+
+namespace caliper {
+
+Vertices vertex_normals(const Vertices& vertices, const Faces& faces) {
+  Vertices normals = Vertices::Zero(vertices.rows(), 3);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Eigen::Vector3d a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)),
+                          c = vertices.row(faces(f, 2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);  // length = 2·area: area weighting for free
+    for (int k = 0; k < 3; ++k) normals.row(faces(f, k)) += n.transpose();
+  }
+  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
+    const double len = normals.row(v).norm();
+    if (len > 0) normals.row(v) /= len; else normals.row(v) << 0, 1, 0;
+  }
+  return normals;
+}
+
+MeshCheck check_mesh(const Faces& faces, std::int64_t vertex_count) {
+  MeshCheck result;
+  // Directed edge counts: a closed, consistently oriented surface uses each directed edge once
+  // and its reverse once.
+  std::unordered_map<std::uint64_t, int> directed;
+  directed.reserve(static_cast<size_t>(faces.rows()) * 3);
+  std::vector<char> used(static_cast<size_t>(std::max<std::int64_t>(vertex_count, 0)), 0);
+  auto key = [](std::int64_t a, std::int64_t b) { return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint64_t>(b); };
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const std::int64_t v[3] = {faces(f, 0), faces(f, 1), faces(f, 2)};
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) ++result.degenerate_faces;
+    for (int k = 0; k < 3; ++k) {
+      if (v[k] >= 0 && v[k] < vertex_count) used[static_cast<size_t>(v[k])] = 1;
+      ++directed[key(v[k], v[(k + 1) % 3])];
+    }
+  }
+  bool oriented = true;
+  for (const auto& [k, count] : directed) {
+    const std::int64_t a = static_cast<std::int64_t>(k >> 32), b = static_cast<std::int64_t>(k & 0xffffffffu);
+    const auto rev = directed.find(key(b, a));
+    const int reverse = rev == directed.end() ? 0 : rev->second;
+    if (count > 1 || reverse > 1) oriented = false;
+    if (a < b || reverse == 0) {  // count each undirected edge once
+      const int total = count + reverse;
+      if (total == 1) ++result.boundary_edges;
+      else if (total > 2) ++result.nonmanifold_edges;
+      if (total == 2 && count != 1) oriented = false;
+    }
+  }
+  result.unused_vertices = std::count(used.begin(), used.end(), 0);
+  result.closed = result.boundary_edges == 0 && result.nonmanifold_edges == 0;
+  result.consistently_oriented = result.closed && oriented;
+  // Vertex manifoldness: the faces around each vertex form one fan (one cycle of edges).
+  bool fans_ok = result.closed && result.degenerate_faces == 0;
+  if (fans_ok) {
+    // For each vertex, link each "incoming" neighbour to the "outgoing" one within each face; a
+    // single cycle means one disc.
+    std::vector<std::vector<std::pair<std::int32_t, std::int32_t>>> fan(static_cast<size_t>(vertex_count));
+    for (Eigen::Index f = 0; f < faces.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        fan[static_cast<size_t>(faces(f, k))].push_back({faces(f, (k + 1) % 3), faces(f, (k + 2) % 3)});
+    for (auto& links : fan) {
+      if (links.empty()) continue;
+      std::unordered_map<std::int32_t, std::int32_t> next;
+      for (auto [a, b] : links) next[a] = b;
+      if (next.size() != links.size()) { fans_ok = false; break; }
+      std::int32_t start = links[0].first, cur = start;
+      size_t steps = 0;
+      do {
+        auto it = next.find(cur);
+        if (it == next.end()) { steps = links.size() + 1; break; }
+        cur = it->second;
+        ++steps;
+      } while (cur != start && steps <= links.size());
+      if (steps != links.size()) { fans_ok = false; break; }
+    }
+  }
+  result.manifold = fans_ok;
+  return result;
+}
+
+}  // namespace caliper

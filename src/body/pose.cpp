@@ -1,0 +1,84 @@
+// Linear blend skinning with axis-angle joint rotations (SMPL, Loper et al. 2015, eq. 2–4,
+// without pose blend shapes).
+#include "caliper/body/pose.h"
+
+#include <cmath>
+
+#include "caliper/errors.h"
+
+namespace caliper {
+
+namespace {
+
+Eigen::Matrix3d rodrigues(const Eigen::Vector3d& axis_angle) {
+  const double angle = axis_angle.norm();
+  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, axis_angle / angle).toRotationMatrix();
+}
+
+int joint_index(const BodyModel& model, const std::string& name) {
+  const auto& names = model.data().joint_names;
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+}  // namespace
+
+Pose zero_pose(const BodyModel& model) { return Pose::Zero(model.joint_count(), 3); }
+Pose t_pose(const BodyModel& model) { return zero_pose(model); }
+
+Pose a_pose(const BodyModel& model, double degrees) {
+  if (!std::isfinite(degrees) || degrees < -90 || degrees > 90)
+    throw Error(ErrorKind::OutOfRange, "A-pose angle must be in [-90, 90] degrees", "degrees");
+  Pose pose = zero_pose(model);
+  const double a = degrees * M_PI / 180.0;
+  // The left arm points to +X: a rotation of −a about +Z lowers it; the right arm mirrors that.
+  if (int l = joint_index(model, "left_shoulder"); l >= 0) pose.row(l) << 0, 0, -a;
+  if (int r = joint_index(model, "right_shoulder"); r >= 0) pose.row(r) << 0, 0, a;
+  return pose;
+}
+
+std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model, const Eigen::MatrixX3d& rest_joints,
+                                                    const Pose& pose) {
+  const int nj = model.joint_count();
+  if (pose.rows() != nj)
+    throw Error(ErrorKind::InvalidArgument,
+                "pose has " + std::to_string(pose.rows()) + " joints, model has " + std::to_string(nj), "pose");
+  if (!pose.allFinite()) throw Error(ErrorKind::InvalidArgument, "pose contains NaN or infinity", "pose");
+  const auto& parents = model.data().parents;
+  std::vector<Eigen::Matrix4d> world(static_cast<size_t>(nj));
+  for (int j = 0; j < nj; ++j) {
+    Eigen::Matrix4d local = Eigen::Matrix4d::Identity();
+    local.topLeftCorner<3, 3>() = rodrigues(pose.row(j).transpose());
+    const int p = parents[static_cast<size_t>(j)];
+    const Eigen::Vector3d offset = p < 0 ? Eigen::Vector3d(rest_joints.row(j).transpose())
+                                         : Eigen::Vector3d((rest_joints.row(j) - rest_joints.row(p)).transpose());
+    local.topRightCorner<3, 1>() = offset;
+    world[static_cast<size_t>(j)] = p < 0 ? local : Eigen::Matrix4d(world[static_cast<size_t>(p)] * local);
+  }
+  return world;
+}
+
+Vertices pose_vertices(const BodyModel& model, const Vertices& rest, const Pose& pose) {
+  if (rest.rows() != model.vertex_count())
+    throw Error(ErrorKind::InvalidArgument, "vertex count does not match the model", "vertices");
+  const Eigen::MatrixX3d joints = model.joints(rest);
+  auto world = joint_world_transforms(model, joints, pose);
+  // Skinning transforms: undo the rest position of the joint, then apply its world transform.
+  for (int j = 0; j < model.joint_count(); ++j) {
+    const Eigen::Vector3d rest_j = joints.row(j).transpose();
+    world[static_cast<size_t>(j)].topRightCorner<3, 1>() -= world[static_cast<size_t>(j)].topLeftCorner<3, 3>() * rest_j;
+  }
+  const auto& weights = model.data().skin_weights;
+  Vertices out(rest.rows(), 3);
+  for (Eigen::Index v = 0; v < rest.rows(); ++v) {
+    Eigen::Matrix<double, 3, 4> blended = Eigen::Matrix<double, 3, 4>::Zero();
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(weights, v); it; ++it)
+      blended += it.value() * world[static_cast<size_t>(it.col())].topRows<3>();
+    out.row(v) = (blended.leftCols<3>() * rest.row(v).transpose() + blended.col(3)).transpose();
+  }
+  return out;
+}
+
+}  // namespace caliper

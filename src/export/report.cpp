@@ -1,0 +1,56 @@
+#include "caliper/export/report.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "caliper/measure/catalogue.h"
+
+namespace caliper {
+
+namespace {
+double round_to(double v, double step) { return std::round(v / step) * step; }
+}  // namespace
+
+std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int indent) {
+  using nlohmann::ordered_json;
+  ordered_json j;
+  j["model"] = model.name();
+  j["sex"] = to_string(model.sex());
+  j["regressor"] = avatar.regressor;
+  j["inputs"] = avatar.inputs;
+  j["beta"] = ordered_json::array();
+  for (Eigen::Index i = 0; i < avatar.beta.size(); ++i) j["beta"].push_back(round_to(avatar.beta(i), 1e-6));
+  ordered_json per = ordered_json::array();
+  for (auto v : avatar.plausibility.per_value) per.push_back(to_string(v));
+  j["plausibility"] = {{"verdict", to_string(avatar.plausibility.overall)},
+                       {"per_value", per},
+                       {"mahalanobis_sq", round_to(avatar.plausibility.mahalanobis_sq, 1e-4)},
+                       {"explanation", avatar.plausibility.explanation},
+                       {"bands", "|beta| <= 2 plausible, 2-3 unusual, > 3 implausible; overall also by chi-square of |beta|^2"}};
+  ordered_json ms = ordered_json::object();
+  for (const auto& [name, achieved] : avatar.achieved) {
+    const MeasurementInfo* info = find_measurement_info(name);
+    const bool kg = info && info->unit == Unit::Kilogram;
+    const std::string suffix = kg ? "_kg" : "_cm";
+    const double scale = kg ? 1.0 : 100.0;
+    ordered_json m = ordered_json::object();
+    auto req = avatar.requested.find(name);
+    if (req != avatar.requested.end()) m["requested" + suffix] = round_to(req->second * scale, 1e-3);
+    m["achieved" + suffix] = round_to(achieved * scale, 1e-3);
+    if (req != avatar.requested.end()) m["difference" + suffix] = round_to((achieved - req->second) * scale, 1e-3);
+    ms[name] = m;
+  }
+  // Requested values the model cannot measure are still reported, so nothing the user gave vanishes.
+  for (const auto& [name, requested] : avatar.requested)
+    if (!avatar.achieved.count(name)) {
+      const MeasurementInfo* info = find_measurement_info(name);
+      const bool kg = info && info->unit == Unit::Kilogram;
+      ms[name] = {{kg ? "requested_kg" : "requested_cm", round_to(requested * (kg ? 1 : 100), 1e-3)}, {"achieved_cm", nullptr}};
+    }
+  j["measurements"] = ms;
+  j["vertex_count"] = model.vertex_count();
+  j["joint_count"] = model.joint_count();
+  return j.dump(indent) + "\n";
+}
+
+}  // namespace caliper

@@ -1,0 +1,115 @@
+#include "caliper/io/ansur.h"
+
+#include <cctype>
+#include <charconv>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "caliper/errors.h"
+
+namespace caliper {
+
+namespace {
+std::string lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+const std::set<std::string>& text_columns() {
+  static const std::set<std::string> cols = {"gender", "date", "installation", "component", "branch", "primarymos",
+                                             "subjectsbirthlocation", "subjectnumericrace", "ethnicity", "dodrace",
+                                             "age", "heightin", "weightlbs", "writingpreference", "subjectid"};
+  return cols;
+}
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  for (;;) {
+    size_t comma = line.find(',', start);
+    out.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+}  // namespace
+
+double ansur_to_si(const std::string& column, double raw) {
+  const std::string c = lower(column);
+  if (c == "weightkg") return raw / 10.0;
+  if (c == "interpupillarybreadth") return raw / 10000.0;
+  return raw / 1000.0;
+}
+
+std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::string& source) {
+  std::istringstream in(text);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<AnsurSubject> subjects;
+  int line_no = 0, gender_col = -1, id_col = -1;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    auto cells = split(line);
+    if (header.empty()) {
+      for (auto& c : cells) header.push_back(lower(c));
+      for (size_t i = 0; i < header.size(); ++i) {
+        if (header[i] == "gender") gender_col = static_cast<int>(i);
+        if (header[i] == "subjectid") id_col = static_cast<int>(i);
+      }
+      bool has_stature = false;
+      for (auto& h : header) has_stature |= h == "stature";
+      if (!has_stature) throw Error(ErrorKind::Format, source + ":1: no 'stature' column: not an ANSUR II file", "stature");
+      if (gender_col < 0) throw Error(ErrorKind::Format, source + ":1: no 'Gender' column", "gender");
+      continue;
+    }
+    if (cells.size() != header.size())
+      throw Error(ErrorKind::Format, source + ":" + std::to_string(line_no) + ": " + std::to_string(cells.size()) +
+                                         " fields, the header has " + std::to_string(header.size()),
+                  "line " + std::to_string(line_no));
+    AnsurSubject s;
+    s.id = id_col >= 0 ? cells[static_cast<size_t>(id_col)] : std::to_string(line_no);
+    const std::string g = lower(cells[static_cast<size_t>(gender_col)]);
+    if (g == "male") s.sex = Sex::Male;
+    else if (g == "female") s.sex = Sex::Female;
+    else throw Error(ErrorKind::Format, source + ":" + std::to_string(line_no) + ": Gender must be Male or Female", "gender");
+    for (size_t i = 0; i < header.size(); ++i) {
+      if (text_columns().count(header[i])) continue;
+      const std::string& cell = cells[i];
+      double v = 0;
+      const auto res = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+      if (cell.empty() || res.ec != std::errc() || res.ptr != cell.data() + cell.size())
+        throw Error(ErrorKind::Format, source + ":" + std::to_string(line_no) + ": column '" + header[i] +
+                                           "' is not a number ('" + cell + "')", header[i]);
+      s.values[header[i]] = ansur_to_si(header[i], v);
+    }
+    subjects.push_back(std::move(s));
+  }
+  if (header.empty()) throw Error(ErrorKind::Format, source + ": empty file", "header");
+  return subjects;
+}
+
+std::vector<AnsurSubject> read_ansur_csv(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error(ErrorKind::Io, "cannot open '" + path + "'", path);
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return parse_ansur_csv(ss.str(), path);
+}
+
+std::map<std::string, double> virtual_caliper_inputs(const AnsurSubject& s) {
+  auto get = [&](const char* c) {
+    auto it = s.values.find(c);
+    if (it == s.values.end()) throw Error(ErrorKind::Format, std::string("subject ") + s.id + " has no '" + c + "'", c);
+    return it->second;
+  };
+  return {{"stature", get("stature")},
+          {"weight", get("weightkg")},
+          {"span", get("span")},
+          {"crotch_height", get("crotchheight")},
+          {"hip_breadth", get("hipbreadth")},
+          {"arm_length", get("acromionradialelength") + get("radialestylionlength")}};
+}
+
+}  // namespace caliper

@@ -1,0 +1,194 @@
+// PCA shape space of generated ANSUR bodies (issue 3; SMPL's shape space is learned the same
+// way from registered scans, Loper et al. 2015 §3).
+#include "caliper/mannequin/population.h"
+
+#include <Eigen/Dense>
+#include <atomic>
+#include <cmath>
+#include <sstream>
+#include <thread>
+
+#include "caliper/errors.h"
+#include "caliper/mannequin/generator.h"
+#include "caliper/measure/geometry.h"
+
+namespace caliper::mannequin {
+
+namespace {
+
+// Standard normal numbers from a fixed 64-bit generator and Box–Muller, so the randomized SVD
+// is the same on every machine and library version (std::normal_distribution is not).
+class Normal {
+ public:
+  explicit Normal(std::uint64_t seed) : state_(seed ? seed : 1) {}
+  double operator()() {
+    if (has_spare_) { has_spare_ = false; return spare_; }
+    double u1 = uniform(), u2 = uniform();
+    const double r = std::sqrt(-2.0 * std::log(u1)), t = 2.0 * M_PI * u2;
+    spare_ = r * std::sin(t);
+    has_spare_ = true;
+    return r * std::cos(t);
+  }
+
+ private:
+  double uniform() {  // splitmix64 → (0, 1)
+    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    z ^= z >> 31;
+    return (static_cast<double>(z >> 11) + 0.5) / 9007199254740992.0;
+  }
+  std::uint64_t state_;
+  double spare_ = 0;
+  bool has_spare_ = false;
+};
+
+Eigen::MatrixXd orthonormalize(const Eigen::MatrixXd& m) {
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(m);
+  return qr.householderQ() * Eigen::MatrixXd::Identity(m.rows(), m.cols());
+}
+
+}  // namespace
+
+BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, const PopulationOptions& options,
+                                PopulationReport* report) {
+  const int k = options.components;
+  if (k < 1 || k > 64) throw Error(ErrorKind::OutOfRange, "components must be in [1, 64]", "components");
+  std::vector<const AnsurSubject*> subjects;
+  for (const auto& s : all)
+    if (sex == Sex::Neutral || s.sex == sex) subjects.push_back(&s);
+  const int n = static_cast<int>(subjects.size());
+  if (n < k + 1)
+    throw Error(ErrorKind::Format, "need at least " + std::to_string(k + 1) + " " + to_string(sex) +
+                                       " subjects, got " + std::to_string(n), "subjects");
+  const Topology& topo = topology();
+  const Eigen::Index dim = 3 * static_cast<Eigen::Index>(topo.vertex_count);
+
+  // One body per subject, row s of `bodies` (row-major N×3 flattened: x0 y0 z0 x1 …).
+  Eigen::MatrixXd bodies(n, dim);
+  std::vector<double> volumes(static_cast<size_t>(n));
+  std::atomic<int> next{0}, done{0};
+  std::vector<std::string> errors(static_cast<size_t>(n));
+  auto worker = [&] {
+    for (int i = next++; i < n; i = next++) {
+      try {
+        Dimensions dims;
+        for (const auto& col : input_columns()) {
+          auto it = subjects[static_cast<size_t>(i)]->values.find(col);
+          if (it != subjects[static_cast<size_t>(i)]->values.end()) dims[col] = it->second;
+        }
+        const Vertices v = generate(complete_dimensions(dims, subjects[static_cast<size_t>(i)]->sex),
+                                    subjects[static_cast<size_t>(i)]->sex);
+        bodies.row(i) = Eigen::Map<const Eigen::RowVectorXd>(v.data(), dim);
+        volumes[static_cast<size_t>(i)] = signed_volume(v, topo.faces);
+      } catch (const std::exception& e) {
+        errors[static_cast<size_t>(i)] = e.what();
+      }
+      ++done;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, options.threads); ++t) pool.emplace_back(worker);
+  if (options.progress) {
+    std::thread main_worker(worker);
+    while (done.load() < n) {
+      options.progress(done.load(), n);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    main_worker.join();
+    options.progress(n, n);
+  } else {
+    worker();
+  }
+  for (auto& t : pool) t.join();
+  for (int i = 0; i < n; ++i)
+    if (!errors[static_cast<size_t>(i)].empty())
+      throw Error(ErrorKind::Format, "subject " + subjects[static_cast<size_t>(i)]->id + ": " + errors[static_cast<size_t>(i)],
+                  "subjects");
+
+  // PCA by a randomized range finder with power iterations (Halko, Martinsson & Tropp 2011):
+  // exact to double precision for the leading components of such a low-rank population, and
+  // far cheaper than the n×n Gram matrix.
+  const Eigen::RowVectorXd mean = bodies.colwise().mean();
+  bodies.rowwise() -= mean;
+  const int l = std::min(n, k + 12);
+  Normal normal(options.seed);
+  Eigen::MatrixXd omega(n, l);
+  for (Eigen::Index c = 0; c < omega.cols(); ++c)
+    for (Eigen::Index r = 0; r < omega.rows(); ++r) omega(r, c) = normal();
+  Eigen::MatrixXd q = orthonormalize(bodies.transpose() * omega);  // dim × l
+  for (int it = 0; it < 4; ++it) q = orthonormalize(bodies.transpose() * orthonormalize(bodies * q));
+  const Eigen::MatrixXd b = bodies * q;  // n × l
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(b, Eigen::ComputeThinV);
+  const Eigen::MatrixXd directions = q * svd.matrixV();  // dim × l, unit columns
+  const double total_variance = bodies.squaredNorm() / (n - 1);
+
+  BodyModelData d;
+  d.name = std::string("mannequin-") + to_string(sex);
+  d.sex = sex;
+  d.template_vertices = Eigen::Map<const Vertices>(mean.data(), topo.vertex_count, 3);
+  d.faces = topo.faces;
+  d.shape_directions.resize(dim, k);
+  std::vector<double> explained;
+  for (int c = 0; c < k; ++c) {
+    const double sd = svd.singularValues()(c) / std::sqrt(n - 1.0);
+    Eigen::VectorXd dir = directions.col(c);
+    // Fix the sign so builds are reproducible and "+β" reads as "more": the largest entry positive.
+    Eigen::Index arg = 0;
+    dir.cwiseAbs().maxCoeff(&arg);
+    if (dir(arg) < 0) dir = -dir;
+    d.shape_directions.col(c) = dir * sd;  // β ~ N(0, I)
+    explained.push_back(sd * sd / total_variance);
+  }
+  d.joint_regressor = topo.joint_regressor;
+  d.joint_names = smpl_joint_names();
+  d.parents = smpl_parents();
+  d.skin_weights = topo.skin_weights;
+  d.landmarks = topo.landmarks;
+  d.measurements = measurement_definitions();
+
+  // weight = a·volume + b on the subjects' real weights (paper §3.4.2, here on ANSUR II).
+  Eigen::MatrixXd x(n, 2);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) {
+    x(i, 0) = volumes[static_cast<size_t>(i)];
+    x(i, 1) = 1.0;
+    y(i) = subjects[static_cast<size_t>(i)]->values.at("weightkg");
+  }
+  const Eigen::Vector2d ab = x.colPivHouseholderQr().solve(y);
+  d.weight_from_volume = {ab(0), ab(1)};
+  const WeightFromVolume paper = WeightFromVolume::paper(sex);
+  double mae_fit = 0, mae_paper = 0, bias_paper = 0;
+  for (int i = 0; i < n; ++i) {
+    mae_fit += std::abs(ab(0) * x(i, 0) + ab(1) - y(i)) / n;
+    const double p = paper.a * x(i, 0) + paper.b - y(i);
+    mae_paper += std::abs(p) / n;
+    bias_paper += p / n;
+  }
+  double total_explained = 0;
+  for (double e : explained) total_explained += e;
+
+  std::ostringstream ev;
+  for (size_t i = 0; i < explained.size(); ++i) ev << (i ? "," : "") << std::round(explained[i] * 1e6) / 1e6;
+  d.metadata = {{"source", "ANSUR II development subset (public domain), Gordon et al. 2014"},
+                {"licence", "Caliper's own model: derived by Caliper's code from public-domain measurements"},
+                {"generator", "caliper mannequin (procedural body)"},
+                {"subjects", std::to_string(n)},
+                {"explained_variance", ev.str()},
+                {"weight_fit", "weight_kg = " + std::to_string(ab(0)) + " * volume_m3 + " + std::to_string(ab(1))},
+                {"weight_mae_fitted_kg", std::to_string(mae_fit)},
+                {"weight_mae_paper_kg", std::to_string(mae_paper)},
+                {"rebuild", "caliper model build mannequin --ansur ../shared/data/ansur2 --sex " + std::string(to_string(sex))}};
+  if (report) {
+    report->subjects = n;
+    report->explained_variance = explained;
+    report->total_explained = total_explained;
+    report->fitted = d.weight_from_volume;
+    report->weight_mae_fitted_kg = mae_fit;
+    report->weight_mae_paper_kg = mae_paper;
+    report->weight_bias_paper_kg = bias_paper;
+  }
+  return BodyModel(std::move(d));
+}
+
+}  // namespace caliper::mannequin

@@ -1,0 +1,166 @@
+// Linear regressors from measurements to shape parameters (paper §3.4.3).
+#include "caliper/regress/regressor.h"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "caliper/errors.h"
+#include "caliper/measure/geometry.h"
+#include "caliper/measure/measure.h"
+
+namespace caliper {
+
+const std::vector<std::string>& preset_names() {
+  static const std::vector<std::string> names = {"R2", "R4", "R5", "R6"};
+  return names;
+}
+
+std::vector<std::string> preset_inputs(const std::string& preset) {
+  std::string p = preset;
+  for (auto& ch : p) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  if (p == "R2") return {"stature", "weight"};
+  if (p == "R4") return {"stature", "weight", "span", "crotch_height"};
+  if (p == "R5") return {"stature", "weight", "span", "crotch_height", "hip_breadth"};
+  if (p == "R6") return {"stature", "weight", "span", "crotch_height", "hip_breadth", "arm_length"};
+  throw Error(ErrorKind::InvalidArgument, "unknown regressor '" + preset + "' (R2, R4, R5, R6, auto)", "regressor");
+}
+
+std::string auto_preset(const std::vector<std::string>& known) {
+  for (auto it = preset_names().rbegin(); it != preset_names().rend(); ++it) {
+    const auto inputs = preset_inputs(*it);
+    if (std::all_of(inputs.begin(), inputs.end(),
+                    [&](const std::string& m) { return std::find(known.begin(), known.end(), m) != known.end(); }))
+      return *it;
+  }
+  throw Error(ErrorKind::Unsupported, "the regressors need at least stature and weight", "stature");
+}
+
+namespace {
+
+// The weight feature: cube root of the volume is linear in β (§3.4.2), weight is not.
+double volume_feature(const BodyModel& model, const Vertices& rest) {
+  return std::cbrt(std::max(0.0, signed_volume(rest, model.faces())));
+}
+
+}  // namespace
+
+CornerDesign build_corner_design(const BodyModel& model, const std::vector<std::string>& measurements,
+                                 int corner_shapes) {
+  const int k = std::min(model.shape_count(), corner_shapes);
+  if (k < 1 || k > 16)
+    throw Error(ErrorKind::OutOfRange, "corner shapes must be in [1, 16], got " + std::to_string(k), "corner_shapes");
+  std::vector<const MeasurementDefinition*> defs;
+  for (const auto& name : measurements) {
+    const MeasurementDefinition* d = model.find_measurement(name);
+    if (!d) throw Error(ErrorKind::Unsupported, "model '" + model.name() + "' cannot measure '" + name + "'", name);
+    defs.push_back(d);
+  }
+  const Eigen::Index corners = Eigen::Index(1) << k;
+  CornerDesign design;
+  design.feature_names = measurements;
+  design.betas.resize(corners, k);
+  design.features.resize(corners, static_cast<Eigen::Index>(defs.size()));
+  Vertices rest;
+  Eigen::VectorXd beta(k);
+  for (Eigen::Index c = 0; c < corners; ++c) {
+    for (int i = 0; i < k; ++i) beta(i) = (c >> i) & 1 ? 2.0 : -2.0;  // ±2 SD (paper §3.4.3)
+    design.betas.row(c) = beta.transpose();
+    model.rest_vertices(beta, rest);
+    for (size_t m = 0; m < defs.size(); ++m)
+      design.features(c, static_cast<Eigen::Index>(m)) =
+          defs[m]->kind == MeasurementKind::Weight ? volume_feature(model, rest) : measure(model, *defs[m], rest);
+  }
+  return design;
+}
+
+Regressor::Regressor(const CornerDesign& design, std::vector<std::string> inputs, std::string name)
+    : name_(std::move(name)), inputs_(std::move(inputs)) {
+  if (inputs_.empty()) throw Error(ErrorKind::InvalidArgument, "a regressor needs at least one input", "inputs");
+  const Eigen::Index rows = design.features.rows();
+  Eigen::MatrixXd x(rows, static_cast<Eigen::Index>(inputs_.size()) + 1);
+  for (size_t i = 0; i < inputs_.size(); ++i) {
+    auto it = std::find(design.feature_names.begin(), design.feature_names.end(), inputs_[i]);
+    if (it == design.feature_names.end())
+      throw Error(ErrorKind::Unsupported, "measurement '" + inputs_[i] + "' is not in the corner design", inputs_[i]);
+    x.col(static_cast<Eigen::Index>(i)) = design.features.col(it - design.feature_names.begin());
+  }
+  x.col(x.cols() - 1).setOnes();
+  // Least squares β = A·f + c over the corners; Householder QR with column pivoting is
+  // deterministic and robust to nearly collinear inputs (e.g. stature and crotch height).
+  const Eigen::MatrixXd w = x.colPivHouseholderQr().solve(design.betas);  // (m+1) × K
+  A_ = w.topRows(w.rows() - 1).transpose();
+  c_ = w.row(w.rows() - 1).transpose();
+}
+
+Eigen::VectorXd Regressor::predict(const BodyModel& model, const std::map<std::string, double>& values) const {
+  Eigen::VectorXd f(static_cast<Eigen::Index>(inputs_.size()));
+  for (size_t i = 0; i < inputs_.size(); ++i) {
+    auto it = values.find(inputs_[i]);
+    if (it == values.end())
+      throw Error(ErrorKind::Unsupported, "regressor " + name_ + " needs '" + inputs_[i] + "'", inputs_[i]);
+    if (!std::isfinite(it->second))
+      throw Error(ErrorKind::InvalidArgument, inputs_[i] + " must be a finite number", inputs_[i]);
+    double v = it->second;
+    if (inputs_[i] == "weight") {
+      const auto& c = model.data().weight_from_volume;
+      const double volume = (v - c.b) / c.a;
+      if (volume <= 0) throw Error(ErrorKind::OutOfRange, "weight is too small to give a positive volume", "weight");
+      v = std::cbrt(volume);
+    }
+    f(static_cast<Eigen::Index>(i)) = v;
+  }
+  return A_ * f + c_;
+}
+
+const char* to_string(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::Plausible: return "plausible";
+    case Verdict::Unusual: return "unusual";
+    case Verdict::Implausible: return "implausible";
+  }
+  return "plausible";
+}
+
+namespace {
+// χ²_k quantile by the Wilson–Hilferty approximation (good to ~1 % for k ≥ 2).
+double chi_square_quantile(int k, double z) {
+  const double a = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
+}
+}  // namespace
+
+Plausibility judge_plausibility(const Eigen::VectorXd& beta) {
+  Plausibility p;
+  p.per_value.resize(static_cast<size_t>(beta.size()));
+  std::ostringstream why;
+  int unusual = 0, implausible = 0;
+  for (Eigen::Index i = 0; i < beta.size(); ++i) {
+    const double a = std::abs(beta(i));
+    Verdict v = !std::isfinite(a) || a > 3.0 ? Verdict::Implausible : a > 2.0 ? Verdict::Unusual : Verdict::Plausible;
+    p.per_value[static_cast<size_t>(i)] = v;
+    if (v == Verdict::Implausible) ++implausible;
+    if (v == Verdict::Unusual) ++unusual;
+    if (v != Verdict::Plausible)
+      why << (why.tellp() > 0 ? "; " : "") << "shape " << (i + 1) << " is " << (std::round(beta(i) * 100) / 100)
+          << " SD from the mean";
+    if (static_cast<int>(v) > static_cast<int>(p.overall)) p.overall = v;
+  }
+  p.mahalanobis_sq = beta.squaredNorm();
+  const int k = static_cast<int>(beta.size());
+  if (k >= 1) {
+    const double q99 = chi_square_quantile(k, 2.3263), q999 = chi_square_quantile(k, 3.0902);
+    Verdict joint = p.mahalanobis_sq > q999 ? Verdict::Implausible : p.mahalanobis_sq > q99 ? Verdict::Unusual : Verdict::Plausible;
+    if (joint != Verdict::Plausible) {
+      why << (why.tellp() > 0 ? "; " : "") << "the shape as a whole is far from the population (‖β‖² = "
+          << std::round(p.mahalanobis_sq * 10) / 10 << ", " << (joint == Verdict::Implausible ? "99.9" : "99")
+          << " % of bodies are below " << std::round((joint == Verdict::Implausible ? q999 : q99) * 10) / 10 << ")";
+      if (static_cast<int>(joint) > static_cast<int>(p.overall)) p.overall = joint;
+    }
+  }
+  p.explanation = why.tellp() > 0 ? why.str() : "every shape value is within 2 SD of the population mean";
+  return p;
+}
+
+}  // namespace caliper

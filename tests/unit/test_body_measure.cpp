@@ -1,0 +1,176 @@
+// Body model, measurements, posing and the paper's regressors on a toy model whose answers are
+// known exactly (every coordinate is linear in β).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "fixtures.h"
+
+using namespace caliper;
+
+TEST(BodyModel, RestVerticesAreTemplatePlusDirections) {
+  const BodyModel m = test::toy_model();
+  Eigen::VectorXd beta(2);
+  beta << 1.0, 0.0;
+  const Vertices v = m.rest_vertices(beta);
+  const int top = m.landmark("vertex");
+  EXPECT_NEAR(v(top, 1), 1.7 + 0.10, 1e-12);
+  EXPECT_NEAR(m.rest_vertices(Eigen::VectorXd())(top, 1), 1.7, 1e-12);  // shorter β = zeros
+}
+
+TEST(BodyModel, RejectsBadBeta) {
+  const BodyModel m = test::toy_model();
+  EXPECT_THROW(m.rest_vertices(Eigen::VectorXd::Zero(4)), Error);
+  Eigen::VectorXd nan = Eigen::VectorXd::Zero(2);
+  nan(1) = std::nan("");
+  EXPECT_THROW(m.rest_vertices(nan), Error);
+}
+
+TEST(BodyModel, ValidatesInconsistentData) {
+  BodyModelData d = test::toy_model().data();
+  d.faces(0, 0) = 100000;
+  try {
+    BodyModel bad(d);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "faces");
+  }
+  BodyModelData d2 = test::toy_model().data();
+  d2.parents[5] = 7;  // parent after child
+  EXPECT_THROW(BodyModel{d2}, Error);
+  BodyModelData d3 = test::toy_model().data();
+  d3.measurements.push_back({"x", MeasurementKind::Height, {"nowhere"}, Axis::Y, ""});
+  EXPECT_THROW(BodyModel{d3}, Error);
+}
+
+TEST(Measure, ToyModelExactValues) {
+  const BodyModel m = test::toy_model(24, 9);
+  const Vertices v = m.rest_vertices(Eigen::VectorXd::Zero(3));
+  auto all = measure_all(m, v);
+  EXPECT_NEAR(all["stature"], 1.7, 1e-12);
+  EXPECT_NEAR(all["crotch_height"], 1.7 * 2 / 8, 1e-12);
+  EXPECT_NEAR(all["waist_circumference"], 2 * 24 * 0.15 * std::sin(M_PI / 24), 1e-9);
+  EXPECT_NEAR(all["waist_breadth"], 0.30, 1e-9);  // 24-gon has vertices at 0° and 180°
+  EXPECT_NEAR(all["waist_depth"], 0.30, 1e-9);    // and at 90°, 270°
+  const double area = 0.5 * 24 * 0.15 * 0.15 * std::sin(2 * M_PI / 24);
+  EXPECT_NEAR(all["weight"], 1000 * area * 1.7, 1e-9);
+}
+
+TEST(Measure, BareMeshNeedsClosedSurface) {
+  Mesh cube = test::unit_cube();
+  const MeshMeasurements mm = measure_mesh(cube, {1000, 0});
+  EXPECT_NEAR(mm.stature, 1.0, 1e-15);
+  EXPECT_NEAR(mm.weight, 1000.0, 1e-9);
+  cube.faces.conservativeResize(11, 3);
+  EXPECT_THROW(measure_mesh(cube, {1000, 0}), Error);
+}
+
+TEST(Pose, ZeroPoseIsIdentity) {
+  const BodyModel m = test::toy_model();
+  const Vertices rest = m.rest_vertices(Eigen::VectorXd::Zero(3));
+  const Vertices posed = pose_vertices(m, rest, zero_pose(m));
+  EXPECT_LT((posed - rest).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(Pose, RootRotationRotatesEverythingRigidly) {
+  const BodyModel m = test::toy_model();
+  const Vertices rest = m.rest_vertices(Eigen::VectorXd::Zero(3));
+  Pose p = zero_pose(m);
+  p.row(0) << 0, M_PI / 2, 0;  // quarter turn about +Y
+  const Vertices posed = pose_vertices(m, rest, p);
+  // Distances are preserved by a rigid motion.
+  for (int i : {0, 5, 40, 100})
+    EXPECT_NEAR((posed.row(i) - posed.row(i + 1)).norm(), (rest.row(i) - rest.row(i + 1)).norm(), 1e-12);
+  EXPECT_GT((posed - rest).cwiseAbs().maxCoeff(), 0.01);
+}
+
+TEST(Pose, RejectsWrongShapeAndNaN) {
+  const BodyModel m = test::toy_model();
+  const Vertices rest = m.rest_vertices(Eigen::VectorXd::Zero(3));
+  EXPECT_THROW(pose_vertices(m, rest, Pose::Zero(3, 3)), Error);
+  Pose p = zero_pose(m);
+  p(3, 1) = std::nan("");
+  EXPECT_THROW(pose_vertices(m, rest, p), Error);
+  EXPECT_THROW(a_pose(m, 200), Error);
+}
+
+TEST(Regressor, PresetsAndAuto) {
+  EXPECT_EQ(preset_inputs("R5").size(), 5u);
+  EXPECT_EQ(auto_preset({"stature", "weight", "span", "crotch_height"}), "R4");
+  EXPECT_EQ(auto_preset({"stature", "weight", "hip_breadth"}), "R2");
+  EXPECT_THROW(auto_preset({"stature"}), Error);
+  EXPECT_THROW(preset_inputs("R7"), Error);
+}
+
+TEST(Regressor, ReproducesLinearInputsExactly) {
+  // Heights are exactly linear in β: the least-squares regressor over the corners inverts them.
+  const BodyModel m = test::toy_model();
+  const CornerDesign design = build_corner_design(m, {"stature", "crotch_height", "waist_breadth", "weight"});
+  EXPECT_EQ(design.betas.rows(), 8);  // 2^3 corners
+  Regressor r(design, {"stature", "waist_breadth"}, "custom");
+  std::map<std::string, double> target = {{"stature", 1.76}, {"waist_breadth", 0.33}};
+  const Vertices v = m.rest_vertices(r.predict(m, target));
+  EXPECT_NEAR(measure(m, *m.find_measurement("stature"), v), 1.76, 1e-9);
+  EXPECT_NEAR(measure(m, *m.find_measurement("waist_breadth"), v), 0.33, 1e-9);
+}
+
+TEST(Regressor, TrainingIsBitForBitReproducible) {
+  const BodyModel m = test::toy_model();
+  const CornerDesign a = build_corner_design(m, {"stature", "weight"});
+  const CornerDesign b = build_corner_design(m, {"stature", "weight"});
+  Regressor ra(a, {"stature", "weight"}, "R2"), rb(b, {"stature", "weight"}, "R2");
+  EXPECT_EQ(std::memcmp(ra.coefficients().data(), rb.coefficients().data(), sizeof(double) * ra.coefficients().size()), 0);
+  EXPECT_EQ(std::memcmp(ra.intercept().data(), rb.intercept().data(), sizeof(double) * ra.intercept().size()), 0);
+}
+
+TEST(Plausibility, Bands) {
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(10);
+  EXPECT_EQ(judge_plausibility(b).overall, Verdict::Plausible);
+  b(3) = 2.5;
+  auto p = judge_plausibility(b);
+  EXPECT_EQ(p.per_value[3], Verdict::Unusual);
+  EXPECT_EQ(p.overall, Verdict::Unusual);
+  EXPECT_NE(p.explanation.find("shape 4"), std::string::npos);
+  b(3) = -3.5;
+  EXPECT_EQ(judge_plausibility(b).overall, Verdict::Implausible);
+  // Every value within 2 SD, but all ten at 1.9 SD together are far out (‖β‖² = 36.1 > χ²₁₀ 99.9 %).
+  Eigen::VectorXd all = Eigen::VectorXd::Constant(10, 1.9);
+  auto q = judge_plausibility(all);
+  EXPECT_EQ(q.per_value[0], Verdict::Plausible);
+  EXPECT_EQ(q.overall, Verdict::Implausible);
+}
+
+TEST(Avatar, BuildsAndReportsRequestedBesideAchieved) {
+  auto model = std::make_shared<const BodyModel>(test::toy_model());
+  AvatarBuilder builder(model);
+  AvatarRequest req;
+  req.measurements = measurements_from_edge({{"height", 175}, {"weight", 120}});
+  const Avatar a = builder.build(req);
+  EXPECT_EQ(a.regressor, "R2");
+  EXPECT_NEAR(a.achieved.at("stature"), 1.75, 1e-6);
+  const auto j = nlohmann::json::parse(avatar_report_json(*model, a));
+  EXPECT_EQ(j["regressor"], "R2");
+  EXPECT_NEAR(j["measurements"]["stature"]["requested_cm"].get<double>(), 175.0, 1e-9);
+  EXPECT_TRUE(j["measurements"]["weight"].contains("achieved_kg"));
+  EXPECT_FALSE(j["measurements"]["crotch_height"].contains("requested_cm"));
+  EXPECT_TRUE(j["plausibility"].contains("verdict"));
+  // R4 needs span and crotch height, which were not given.
+  req.regressor = "R4";
+  EXPECT_THROW(builder.build(req), Error);
+}
+
+TEST(Avatar, EdgeValuesAreChecked) {
+  EXPECT_THROW(measurements_from_edge({{"stature", std::nan("")}}), Error);
+  try {
+    measurements_from_edge({{"stature", 1700}});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::OutOfRange);
+    EXPECT_EQ(e.field(), "stature");
+    EXPECT_NE(std::string(e.what()).find("[50, 250] cm"), std::string::npos);
+  }
+  EXPECT_THROW(measurements_from_edge({{"weight", -3}}), Error);
+  EXPECT_THROW(measurements_from_edge({{"height", 170}, {"stature", 171}}), Error);
+  EXPECT_THROW(measurements_from_edge({{"shoe_size", 42}}), Error);
+  EXPECT_NEAR(measurements_from_edge({{"inseam", 80}}).at("crotch_height"), 0.80, 1e-15);
+}

@@ -1,0 +1,102 @@
+// Tiny meshes with exact answers: volumes, sections, convex hulls, topology checks.
+#include <gtest/gtest.h>
+
+#include "fixtures.h"
+
+using namespace caliper;
+
+TEST(Geometry, UnitCubeVolumeIsOne) {
+  const Mesh cube = test::unit_cube();
+  EXPECT_NEAR(signed_volume(cube.vertices, cube.faces), 1.0, 1e-15);
+}
+
+TEST(Geometry, VolumeDoesNotDependOnPosition) {
+  Mesh cube = test::unit_cube();
+  cube.vertices.rowwise() += Eigen::RowVector3d(5, -3, 2);
+  EXPECT_NEAR(signed_volume(cube.vertices, cube.faces), 1.0, 1e-12);
+}
+
+TEST(Geometry, FlippedCubeHasNegativeVolume) {
+  Mesh cube = test::unit_cube();
+  cube.faces.col(1).swap(cube.faces.col(2));
+  EXPECT_NEAR(signed_volume(cube.vertices, cube.faces), -1.0, 1e-15);
+}
+
+TEST(Geometry, PrismVolumeIsAreaTimesHeight) {
+  const int sides = 12;
+  const double r = 0.2, h = 1.5;
+  const Mesh p = test::prism(sides, 4, r, h);
+  const double area = 0.5 * sides * r * r * std::sin(2 * M_PI / sides);
+  EXPECT_NEAR(signed_volume(p.vertices, p.faces), area * h, 1e-12);
+}
+
+TEST(Geometry, CubeIsClosedManifoldAndOriented) {
+  const Mesh cube = test::unit_cube();
+  const MeshCheck c = check_mesh(cube.faces, 8);
+  EXPECT_TRUE(c.closed);
+  EXPECT_TRUE(c.manifold);
+  EXPECT_TRUE(c.consistently_oriented);
+  EXPECT_EQ(c.boundary_edges, 0);
+}
+
+TEST(Geometry, CheckFindsHoleAndBadOrientation) {
+  Mesh cube = test::unit_cube();
+  Faces open = cube.faces.topRows(11);
+  const MeshCheck holed = check_mesh(open, 8);
+  EXPECT_FALSE(holed.closed);
+  EXPECT_EQ(holed.boundary_edges, 3);
+  Faces flipped = cube.faces;
+  std::swap(flipped(0, 1), flipped(0, 2));
+  EXPECT_FALSE(check_mesh(flipped, 8).consistently_oriented);
+}
+
+TEST(Geometry, SectionOfPrismIsItsPolygon) {
+  const int sides = 16;
+  const double r = 0.1;
+  const Mesh p = test::prism(sides, 5, r, 1.0);
+  auto loops = plane_section(p.vertices, p.faces, {0, 0.37, 0}, {0, 1, 0});
+  ASSERT_EQ(loops.size(), 1u);
+  // Each side quad is two triangles: the plane crosses the vertical edges and the diagonals.
+  EXPECT_EQ(loops[0].size(), static_cast<size_t>(2 * sides));
+  for (const auto& q : loops[0]) EXPECT_NEAR(q.y(), 0.37, 1e-12);
+  std::vector<Eigen::Vector2d> flat;
+  for (const auto& q : loops[0]) flat.push_back({q.x(), q.z()});
+  EXPECT_NEAR(convex_hull_perimeter(flat), 2 * sides * r * std::sin(M_PI / sides), 1e-12);
+}
+
+TEST(Geometry, SectionThroughVertexPlaneStillOneLoop) {
+  // The plane passes exactly through a ring of vertices: the nudge keeps one closed loop.
+  const Mesh p = test::prism(10, 5, 0.1, 1.0);
+  auto loops = plane_section(p.vertices, p.faces, {0, 0.5, 0}, {0, 1, 0});
+  ASSERT_EQ(loops.size(), 1u);
+  std::vector<Eigen::Vector2d> flat;
+  for (const auto& q : loops[0]) flat.push_back({q.x(), q.z()});
+  EXPECT_NEAR(convex_hull_perimeter(flat), 20 * 0.1 * std::sin(M_PI / 10), 1e-9);
+}
+
+TEST(Geometry, TwoSeparateBodiesGiveTwoLoops) {
+  Mesh a = test::prism(8, 3, 0.1, 1.0), b = a;
+  b.vertices.col(0).array() += 0.5;
+  Mesh both;
+  both.vertices.resize(a.vertices.rows() * 2, 3);
+  both.vertices << a.vertices, b.vertices;
+  both.faces.resize(a.faces.rows() * 2, 3);
+  both.faces << a.faces, (b.faces.array() + static_cast<int>(a.vertices.rows())).matrix();
+  EXPECT_EQ(plane_section(both.vertices, both.faces, {0, 0.5, 0}, {0, 1, 0}).size(), 2u);
+}
+
+TEST(Geometry, ConvexHullIgnoresConcavity) {
+  // A square with a notch: the tape spans the notch, so the perimeter is the square's.
+  std::vector<Eigen::Vector2d> pts = {{0, 0}, {1, 0}, {1, 1}, {0.5, 0.5}, {0, 1}};
+  EXPECT_NEAR(convex_hull_perimeter(pts), 4.0, 1e-15);
+}
+
+TEST(Geometry, NormalsOfCubeCornerPointOutwards) {
+  const Mesh cube = test::unit_cube();
+  const Vertices n = vertex_normals(cube.vertices, cube.faces);
+  for (int v = 0; v < 8; ++v) {
+    const Eigen::Vector3d out = cube.vertices.row(v).transpose() - Eigen::Vector3d(0.5, 0.5, 0.5);
+    EXPECT_GT(n.row(v).dot(out.transpose()), 0.0);
+    EXPECT_NEAR(n.row(v).norm(), 1.0, 1e-12);
+  }
+}
