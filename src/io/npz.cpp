@@ -1,0 +1,559 @@
+// NumPy .npy / .npz reading and writing.
+// Format: numpy's NEP 1 (".npy" v1.0/2.0/3.0: magic "\x93NUMPY", version, header length, a
+// Python-literal dict header padded to 64 bytes, then raw data); ".npz" is a zip of .npy files.
+// Everything read here is untrusted: every length is checked against the bytes actually present
+// before anything is allocated, so a truncated or hostile file gives Error(Format), never a crash.
+#include "caliper/io/npz.h"
+
+#include <zip.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstring>
+#include <limits>
+#include <memory>
+
+#include "caliper/errors.h"
+
+namespace caliper::npz {
+
+std::int64_t Array::size() const {
+  std::int64_t n = 1;
+  for (std::int64_t d : shape) n *= d;
+  return n;
+}
+
+namespace {
+
+constexpr char kMagic[] = "\x93NUMPY";
+constexpr std::size_t kMagicSize = 6;
+// No model array comes near this; anything larger is a corrupt header, not data to allocate for.
+constexpr std::int64_t kMaxElements = std::int64_t{1} << 34;
+constexpr std::size_t kMaxHeaderSize = 1 << 20;
+constexpr std::uint64_t kMaxEntryBytes = std::uint64_t{8} << 30;  // one uncompressed .npy
+
+[[noreturn]] void bad(const std::string& name, const std::string& what) {
+  throw Error(ErrorKind::Format, "array '" + name + "': " + what, name);
+}
+
+// ---- header dict: {'descr': '<f8', 'fortran_order': False, 'shape': (6890, 3), } ----
+
+struct Header {
+  std::string descr;
+  bool fortran_order = false;
+  bool has_descr = false, has_order = false, has_shape = false;
+  std::vector<std::int64_t> shape;
+};
+
+class HeaderParser {
+ public:
+  HeaderParser(const std::string& text, const std::string& name) : s_(text), name_(name) {}
+
+  Header parse() {
+    Header h;
+    skip_space();
+    expect('{');
+    while (true) {
+      skip_space();
+      if (peek() == '}') { ++i_; break; }
+      const std::string key = parse_string();
+      skip_space();
+      expect(':');
+      skip_space();
+      if (key == "descr") {
+        // A list here is a structured dtype (records): not something a model file contains.
+        if (peek() != '\'' && peek() != '"') bad(name_, "structured dtypes are not supported");
+        h.descr = parse_string();
+        h.has_descr = true;
+      } else if (key == "fortran_order") {
+        h.fortran_order = parse_bool();
+        h.has_order = true;
+      } else if (key == "shape") {
+        h.shape = parse_shape();
+        h.has_shape = true;
+      } else {
+        bad(name_, "unexpected header key '" + key + "'");
+      }
+      skip_space();
+      if (peek() == ',') { ++i_; continue; }
+      skip_space();
+      if (peek() == '}') { ++i_; break; }
+      bad(name_, "malformed header dict");
+    }
+    if (!h.has_descr || !h.has_order || !h.has_shape)
+      bad(name_, "header lacks one of 'descr', 'fortran_order', 'shape'");
+    return h;
+  }
+
+ private:
+  char peek() const { return i_ < s_.size() ? s_[i_] : '\0'; }
+  void skip_space() {
+    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
+  }
+  void expect(char c) {
+    if (peek() != c) bad(name_, std::string("malformed header: expected '") + c + "'");
+    ++i_;
+  }
+  std::string parse_string() {
+    const char q = peek();
+    if (q != '\'' && q != '"') bad(name_, "malformed header: expected a quoted string");
+    ++i_;
+    std::string out;
+    while (i_ < s_.size() && s_[i_] != q) out += s_[i_++];
+    if (i_ >= s_.size()) bad(name_, "malformed header: unterminated string");
+    ++i_;
+    return out;
+  }
+  bool parse_bool() {
+    if (s_.compare(i_, 4, "True") == 0) { i_ += 4; return true; }
+    if (s_.compare(i_, 5, "False") == 0) { i_ += 5; return false; }
+    bad(name_, "malformed header: fortran_order must be True or False");
+  }
+  std::vector<std::int64_t> parse_shape() {
+    expect('(');
+    std::vector<std::int64_t> shape;
+    while (true) {
+      skip_space();
+      if (peek() == ')') { ++i_; break; }
+      if (!std::isdigit(static_cast<unsigned char>(peek()))) bad(name_, "malformed header: bad shape");
+      std::int64_t v = 0;
+      while (std::isdigit(static_cast<unsigned char>(peek()))) {
+        v = v * 10 + (s_[i_++] - '0');
+        if (v > kMaxElements) bad(name_, "shape dimension too large");
+      }
+      if (peek() == 'L') ++i_;  // Python 2 longs in headers written by old numpy
+      shape.push_back(v);
+      if (shape.size() > 32) bad(name_, "more than 32 dimensions");
+      skip_space();
+      if (peek() == ',') { ++i_; continue; }
+      skip_space();
+      if (peek() == ')') { ++i_; break; }
+      bad(name_, "malformed header: bad shape");
+    }
+    return shape;
+  }
+
+  const std::string& s_;
+  const std::string& name_;
+  std::size_t i_ = 0;
+};
+
+// ---- dtype ----
+
+enum class Kind { Float, Int, UInt, Bool, Unicode, Bytes, Object };
+
+struct DType {
+  Kind kind = Kind::Float;
+  bool big_endian = false;
+  std::size_t item_size = 0;  // bytes per element
+};
+
+DType parse_dtype(const std::string& descr, const std::string& name) {
+  if (descr.size() < 2) bad(name, "unsupported dtype '" + descr + "'");
+  DType t;
+  const char order = descr[0];
+  if (order == '>') t.big_endian = true;
+  else if (order != '<' && order != '|' && order != '=') bad(name, "unsupported dtype '" + descr + "'");
+  const char kind = descr[1];
+  const std::string digits = descr.substr(2);
+  if (kind == 'O') {
+    t.kind = Kind::Object;
+    return t;
+  }
+  std::size_t count = 0;
+  if (digits.empty() || digits.size() > 6 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    bad(name, "unsupported dtype '" + descr + "'");
+  count = std::stoul(digits);
+  switch (kind) {
+    case 'f':
+      if (count != 4 && count != 8) bad(name, "unsupported float size in dtype '" + descr + "'");
+      t.kind = Kind::Float;
+      t.item_size = count;
+      break;
+    case 'i':
+    case 'u':
+      if (count != 1 && count != 2 && count != 4 && count != 8) bad(name, "unsupported integer dtype '" + descr + "'");
+      t.kind = kind == 'i' ? Kind::Int : Kind::UInt;
+      t.item_size = count;
+      break;
+    case 'b':
+      if (count != 1) bad(name, "unsupported bool dtype '" + descr + "'");
+      t.kind = Kind::Bool;
+      t.item_size = 1;
+      break;
+    case 'U':
+      if (count < 1) bad(name, "unicode dtype with zero length");
+      t.kind = Kind::Unicode;
+      t.item_size = 4 * count;
+      break;
+    case 'S':
+      if (count < 1) bad(name, "bytes dtype with zero length");
+      t.kind = Kind::Bytes;
+      t.item_size = count;
+      break;
+    default:
+      bad(name, "unsupported dtype '" + descr + "'");
+  }
+  return t;
+}
+
+std::uint64_t load_uint(const unsigned char* p, std::size_t n, bool big_endian) {
+  std::uint64_t v = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t idx = big_endian ? k : n - 1 - k;
+    v = (v << 8) | p[idx];
+  }
+  return v;
+}
+
+double decode_number(const unsigned char* p, const DType& t) {
+  const std::uint64_t bits = load_uint(p, t.item_size, t.big_endian);
+  switch (t.kind) {
+    case Kind::Float:
+      if (t.item_size == 4) {
+        const auto b32 = static_cast<std::uint32_t>(bits);
+        float f;
+        std::memcpy(&f, &b32, 4);
+        return f;
+      } else {
+        double d;
+        std::memcpy(&d, &bits, 8);
+        return d;
+      }
+    case Kind::Int: {
+      // Sign-extend from item_size bytes.
+      const unsigned shift = static_cast<unsigned>(64 - 8 * t.item_size);
+      const auto s = static_cast<std::int64_t>(bits << shift) >> shift;
+      return static_cast<double>(s);
+    }
+    case Kind::UInt: return static_cast<double>(bits);
+    case Kind::Bool: return bits != 0 ? 1.0 : 0.0;
+    default: return 0;
+  }
+}
+
+void append_utf8(std::string& out, std::uint32_t cp) {
+  if (cp < 0x80) {
+    out += static_cast<char>(cp);
+  } else if (cp < 0x800) {
+    out += static_cast<char>(0xC0 | (cp >> 6));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  } else if (cp < 0x10000) {
+    out += static_cast<char>(0xE0 | (cp >> 12));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  } else {
+    out += static_cast<char>(0xF0 | (cp >> 18));
+    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
+    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (cp & 0x3F));
+  }
+}
+
+std::string decode_unicode(const unsigned char* p, const DType& t, const std::string& name) {
+  std::string out;
+  const std::size_t n = t.item_size / 4;
+  std::size_t len = n;
+  // numpy pads short strings with NUL code points at the end.
+  while (len > 0 && load_uint(p + 4 * (len - 1), 4, t.big_endian) == 0) --len;
+  for (std::size_t k = 0; k < len; ++k) {
+    const auto cp = static_cast<std::uint32_t>(load_uint(p + 4 * k, 4, t.big_endian));
+    if (cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) bad(name, "invalid unicode code point");
+    append_utf8(out, cp);
+  }
+  return out;
+}
+
+// C-order linear index → offset in Fortran-order storage.
+std::vector<std::int64_t> fortran_offsets(const std::vector<std::int64_t>& shape, std::int64_t count) {
+  const std::size_t nd = shape.size();
+  std::vector<std::int64_t> stride(nd, 1);  // Fortran strides: first axis fastest
+  for (std::size_t a = 1; a < nd; ++a) stride[a] = stride[a - 1] * shape[a - 1];
+  std::vector<std::int64_t> offsets(static_cast<std::size_t>(count));
+  std::vector<std::int64_t> idx(nd, 0);
+  for (std::int64_t lin = 0; lin < count; ++lin) {
+    std::int64_t off = 0;
+    for (std::size_t a = 0; a < nd; ++a) off += idx[a] * stride[a];
+    offsets[static_cast<std::size_t>(lin)] = off;
+    // Advance the C-order multi-index (last axis fastest).
+    for (std::size_t a = nd; a-- > 0;) {
+      if (++idx[a] < shape[a]) break;
+      idx[a] = 0;
+    }
+  }
+  return offsets;
+}
+
+// ---- writing ----
+
+std::string shape_text(const std::vector<std::int64_t>& shape) {
+  std::string s = "(";
+  for (std::size_t a = 0; a < shape.size(); ++a) {
+    if (a) s += ", ";
+    s += std::to_string(shape[a]);
+  }
+  if (shape.size() == 1) s += ",";
+  return s + ")";
+}
+
+std::string npy_preamble(const std::string& descr, const std::vector<std::int64_t>& shape) {
+  std::string dict = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape_text(shape) + ", }";
+  // Pad with spaces and end with '\n' so the data starts on a 64-byte boundary (as numpy does).
+  std::size_t prefix = kMagicSize + 2 + 2;  // version 1.0: 2-byte header length
+  bool v2 = false;
+  std::size_t total = prefix + dict.size() + 1;
+  std::size_t padded = (total + 63) / 64 * 64;
+  if (padded - prefix > 65535) {
+    v2 = true;
+    prefix = kMagicSize + 2 + 4;
+    total = prefix + dict.size() + 1;
+    padded = (total + 63) / 64 * 64;
+  }
+  dict.append(padded - total, ' ');
+  dict += '\n';
+  std::string out(kMagic, kMagicSize);
+  out += static_cast<char>(v2 ? 2 : 1);
+  out += '\0';
+  const std::size_t len = dict.size();
+  out += static_cast<char>(len & 0xFF);
+  out += static_cast<char>((len >> 8) & 0xFF);
+  if (v2) {
+    out += static_cast<char>((len >> 16) & 0xFF);
+    out += static_cast<char>((len >> 24) & 0xFF);
+  }
+  return out + dict;
+}
+
+void check_shape(std::size_t count, const std::vector<std::int64_t>& shape) {
+  std::int64_t n = 1;
+  for (std::int64_t d : shape) {
+    if (d < 0) throw Error(ErrorKind::InvalidArgument, "npy shape has a negative dimension", "shape");
+    n *= d;
+  }
+  if (static_cast<std::size_t>(n) != count)
+    throw Error(ErrorKind::InvalidArgument,
+                "npy shape " + shape_text(shape) + " does not match " + std::to_string(count) + " values", "shape");
+}
+
+void put_le(std::string& out, std::uint64_t bits, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) out += static_cast<char>((bits >> (8 * k)) & 0xFF);
+}
+
+// UTF-8 → code points; throws on malformed input (it becomes a fixed-width UTF-32 numpy string).
+std::vector<std::uint32_t> utf8_code_points(const std::string& s) {
+  std::vector<std::uint32_t> cps;
+  std::size_t i = 0;
+  const auto fail = [] { throw Error(ErrorKind::InvalidArgument, "text is not valid UTF-8", "text"); };
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    std::uint32_t cp;
+    std::size_t extra;
+    if (c < 0x80) { cp = c; extra = 0; }
+    else if ((c & 0xE0) == 0xC0) { cp = c & 0x1F; extra = 1; }
+    else if ((c & 0xF0) == 0xE0) { cp = c & 0x0F; extra = 2; }
+    else if ((c & 0xF8) == 0xF0) { cp = c & 0x07; extra = 3; }
+    else fail();
+    if (i + extra >= s.size()) fail();  // a multi-byte sequence cut short
+    for (std::size_t k = 1; k <= extra; ++k) {
+      const auto cc = static_cast<unsigned char>(s[i + k]);
+      if ((cc & 0xC0) != 0x80) fail();
+      cp = (cp << 6) | (cc & 0x3F);
+    }
+    static constexpr std::uint32_t kMin[] = {0, 0x80, 0x800, 0x10000};
+    if (cp < kMin[extra] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) fail();
+    cps.push_back(cp);
+    i += extra + 1;
+  }
+  return cps;
+}
+
+// ---- zip helpers ----
+
+struct ZipCloser {
+  void operator()(zip_t* z) const { zip_discard(z); }
+};
+struct ZipFileCloser {
+  void operator()(zip_file_t* f) const { zip_fclose(f); }
+};
+
+}  // namespace
+
+Array parse_npy(const std::string& bytes, const std::string& name) {
+  if (bytes.size() < kMagicSize + 4 || bytes.compare(0, kMagicSize, kMagic, kMagicSize) != 0)
+    bad(name, "not a .npy document (bad magic or truncated)");
+  const auto* u = reinterpret_cast<const unsigned char*>(bytes.data());
+  const int major = u[6];
+  std::size_t header_len = 0, pos = 0;
+  if (major == 1) {
+    header_len = load_uint(u + 8, 2, false);
+    pos = 10;
+  } else if (major == 2 || major == 3) {
+    if (bytes.size() < 12) bad(name, "truncated .npy header");
+    header_len = load_uint(u + 8, 4, false);
+    pos = 12;
+  } else {
+    bad(name, "unsupported .npy version " + std::to_string(major));
+  }
+  if (header_len > kMaxHeaderSize || header_len > bytes.size() - pos) bad(name, "truncated .npy header");
+  // Version 3 headers are UTF-8; the keys and dtypes we accept are ASCII either way.
+  const Header h = HeaderParser(bytes.substr(pos, header_len), name).parse();
+  pos += header_len;
+
+  Array a;
+  a.dtype = h.descr;
+  a.shape = h.shape;
+  const DType t = parse_dtype(h.descr, name);
+  std::int64_t count = 1;
+  for (std::int64_t d : h.shape) {
+    if (d != 0 && count > kMaxElements / d) bad(name, "shape too large");
+    count *= d;
+  }
+  if (count > kMaxElements) bad(name, "shape too large");
+  if (t.kind == Kind::Object) {
+    a.is_object = true;  // a pickle: never executed, contents left unread
+    return a;
+  }
+  const std::uint64_t data_bytes = static_cast<std::uint64_t>(count) * t.item_size;
+  const std::uint64_t present = bytes.size() - pos;
+  if (present < data_bytes)
+    bad(name, "truncated: shape " + shape_text(h.shape) + " of " + h.descr + " needs " + std::to_string(data_bytes) +
+                  " bytes, " + std::to_string(present) + " present");
+  if (present > data_bytes)
+    bad(name, std::to_string(present - data_bytes) + " unexpected bytes after the data");
+
+  const unsigned char* data = u + pos;
+  std::vector<std::int64_t> offsets;
+  if (h.fortran_order && h.shape.size() > 1) offsets = fortran_offsets(h.shape, count);
+  const auto element = [&](std::int64_t lin) {
+    const std::int64_t off = offsets.empty() ? lin : offsets[static_cast<std::size_t>(lin)];
+    return data + static_cast<std::size_t>(off) * t.item_size;
+  };
+  if (t.kind == Kind::Unicode || t.kind == Kind::Bytes) {
+    a.strings.reserve(static_cast<std::size_t>(count));
+    for (std::int64_t k = 0; k < count; ++k) {
+      const unsigned char* p = element(k);
+      if (t.kind == Kind::Unicode) {
+        a.strings.push_back(decode_unicode(p, t, name));
+      } else {
+        std::size_t len = t.item_size;
+        while (len > 0 && p[len - 1] == 0) --len;
+        a.strings.emplace_back(reinterpret_cast<const char*>(p), len);
+      }
+    }
+  } else {
+    a.numbers.resize(static_cast<std::size_t>(count));
+    for (std::int64_t k = 0; k < count; ++k) a.numbers[static_cast<std::size_t>(k)] = decode_number(element(k), t);
+  }
+  return a;
+}
+
+std::string write_npy_f64(const std::vector<double>& values, const std::vector<std::int64_t>& shape) {
+  check_shape(values.size(), shape);
+  std::string out = npy_preamble("<f8", shape);
+  out.reserve(out.size() + 8 * values.size());
+  for (double v : values) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, 8);
+    put_le(out, bits, 8);
+  }
+  return out;
+}
+
+std::string write_npy_i64(const std::vector<std::int64_t>& values, const std::vector<std::int64_t>& shape) {
+  check_shape(values.size(), shape);
+  std::string out = npy_preamble("<i8", shape);
+  out.reserve(out.size() + 8 * values.size());
+  for (std::int64_t v : values) put_le(out, static_cast<std::uint64_t>(v), 8);
+  return out;
+}
+
+std::string write_npy_unicode_array(const std::vector<std::string>& utf8_texts, const std::vector<std::int64_t>& shape) {
+  check_shape(utf8_texts.size(), shape);
+  std::vector<std::vector<std::uint32_t>> cps;
+  std::size_t width = 1;  // numpy uses '<U1' even for empty strings
+  for (const auto& s : utf8_texts) {
+    cps.push_back(utf8_code_points(s));
+    width = std::max(width, cps.back().size());
+  }
+  std::string out = npy_preamble("<U" + std::to_string(width), shape);
+  for (const auto& c : cps) {
+    for (std::size_t k = 0; k < width; ++k) put_le(out, k < c.size() ? c[k] : 0, 4);
+  }
+  return out;
+}
+
+std::string write_npy_unicode(const std::string& utf8_text) { return write_npy_unicode_array({utf8_text}, {}); }
+
+std::map<std::string, Array> read_npz(const std::string& path) {
+  int err = 0;
+  std::unique_ptr<zip_t, ZipCloser> z(zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &err));
+  if (!z) {
+    if (err == ZIP_ER_OPEN || err == ZIP_ER_NOENT || err == ZIP_ER_READ || err == ZIP_ER_MEMORY)
+      throw Error(ErrorKind::Io, "cannot open '" + path + "'", path);
+    zip_error_t ze;
+    zip_error_init_with_code(&ze, err);
+    const std::string why = zip_error_strerror(&ze);
+    zip_error_fini(&ze);
+    throw Error(ErrorKind::Format, "'" + path + "' is not a valid .npz (zip) archive: " + why, path);
+  }
+  std::map<std::string, Array> arrays;
+  const zip_int64_t entries = zip_get_num_entries(z.get(), 0);
+  for (zip_int64_t e = 0; e < entries; ++e) {
+    zip_stat_t st;
+    zip_stat_init(&st);
+    if (zip_stat_index(z.get(), static_cast<zip_uint64_t>(e), 0, &st) != 0 || !(st.valid & ZIP_STAT_NAME) ||
+        !(st.valid & ZIP_STAT_SIZE))
+      throw Error(ErrorKind::Format, "'" + path + "': unreadable zip entry " + std::to_string(e), path);
+    std::string name = st.name;
+    if (!name.empty() && name.back() == '/') continue;  // a directory entry
+    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".npy") == 0) name.resize(name.size() - 4);
+    if (st.size > kMaxEntryBytes) bad(name, "entry of " + std::to_string(st.size) + " bytes is implausibly large");
+    std::unique_ptr<zip_file_t, ZipFileCloser> f(zip_fopen_index(z.get(), static_cast<zip_uint64_t>(e), 0));
+    if (!f) bad(name, std::string("cannot read zip entry: ") + zip_strerror(z.get()));
+    // Grow the buffer with the data actually decompressed, not with the size the directory
+    // claims, so a lying header cannot make us allocate gigabytes.
+    std::string bytes;
+    std::array<char, 1 << 16> chunk;
+    while (true) {
+      const zip_int64_t got = zip_fread(f.get(), chunk.data(), chunk.size());
+      if (got < 0) bad(name, std::string("corrupt or truncated zip entry: ") + zip_file_strerror(f.get()));
+      if (got == 0) break;
+      bytes.append(chunk.data(), static_cast<std::size_t>(got));
+      if (bytes.size() > st.size) bad(name, "zip entry is longer than its directory says");
+    }
+    if (bytes.size() != st.size)
+      bad(name, "truncated zip entry: " + std::to_string(bytes.size()) + " of " + std::to_string(st.size) + " bytes");
+    arrays[name] = parse_npy(bytes, name);
+  }
+  return arrays;
+}
+
+void write_npz(const std::string& path, const std::map<std::string, std::string>& npy_entries) {
+  int err = 0;
+  std::unique_ptr<zip_t, ZipCloser> z(zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err));
+  if (!z) throw Error(ErrorKind::Io, "cannot create '" + path + "'", path);
+  const auto fail = [&](const std::string& what) {
+    throw Error(ErrorKind::Io, "cannot write '" + path + "': " + what + ": " + zip_strerror(z.get()), path);
+  };
+  // std::map iterates in name order, which fixes the entry order.
+  for (const auto& [name, bytes] : npy_entries) {
+    zip_source_t* src = zip_source_buffer(z.get(), bytes.data(), bytes.size(), 0);
+    if (!src) fail(name);
+    const zip_int64_t idx = zip_file_add(z.get(), (name + ".npy").c_str(), src, ZIP_FL_ENC_UTF_8);
+    if (idx < 0) {
+      zip_source_free(src);
+      fail(name);
+    }
+    const auto i = static_cast<zip_uint64_t>(idx);
+    // 1980-01-01 00:00 in DOS time: the same bytes for the same arrays, whenever written.
+    if (zip_set_file_compression(z.get(), i, ZIP_CM_DEFLATE, 6) != 0 || zip_file_set_dostime(z.get(), i, 0, 0x21, 0) != 0 ||
+        zip_file_set_external_attributes(z.get(), i, 0, ZIP_OPSYS_UNIX, 0100644u << 16) != 0)
+      fail(name);
+  }
+  // zip_close writes to a temporary file and renames it, and reads the buffers until then.
+  if (zip_close(z.get()) != 0) fail("close");
+  z.release();
+}
+
+}  // namespace caliper::npz
