@@ -36,7 +36,14 @@ else
   echo "[caliper] Debian packages already installed"
 fi
 
-if [ -f web/package.json ]; then
-  echo "[caliper] installing npm packages (web/)"
-  (cd web && if [ -f package-lock.json ]; then npm ci --no-audit --no-fund; else npm install --no-audit --no-fund; fi)
-fi
+# npm packages (the glTF validator, the web front end's libraries): only from the npm registry.
+for dir in tools web; do
+  if [ -f "$dir/package.json" ]; then
+    if [ -d "$dir/node_modules" ] && [ "$dir/node_modules/.package-lock.json" -nt "$dir/package-lock.json" ]; then
+      echo "[caliper] npm packages in $dir/ already installed"
+    else
+      echo "[caliper] installing npm packages in $dir/"
+      (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+    fi
+  fi
+done

@@ -41,8 +41,14 @@ const Regressor& AvatarBuilder::regressor(const std::string& name, const std::ve
     if (!model_->find_measurement(m))
       throw Error(ErrorKind::Unsupported, "model '" + model_->name() + "' cannot measure '" + m + "'", m);
   // The corner design grows by the columns a new regressor needs; bodies are rebuilt only for them.
+  // The first design takes every preset input the model can measure at once, so training the four
+  // presets measures the 2^K corner bodies a single time.
+  std::vector<std::string> wanted = inputs;
+  if (!design_)
+    for (const auto& m : preset_inputs("R6"))
+      if (model_->find_measurement(m) && std::find(wanted.begin(), wanted.end(), m) == wanted.end()) wanted.push_back(m);
   std::vector<std::string> missing;
-  for (const auto& m : inputs)
+  for (const auto& m : wanted)
     if (!design_ || std::find(design_->feature_names.begin(), design_->feature_names.end(), m) == design_->feature_names.end())
       missing.push_back(m);
   if (!missing.empty()) {

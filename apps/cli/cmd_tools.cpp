@@ -106,6 +106,7 @@ void register_model(CLI::App& app) {
   build->add_option("--components", *components, "shape directions kept, K (1–64)")->capture_default_str();
   build->add_option("-o,--output", *out, "model file to write (.npz)")->required();
   build->callback([=] {
+    (void)kind;  // bound to the positional argument; kept alive by this capture
     const Sex sex = parse_sex(*build_sex);
     std::vector<AnsurSubject> subjects;
     namespace fs = std::filesystem;

@@ -115,6 +115,7 @@ BodyModel::BodyModel(BodyModelData data) : data_(std::move(data)) {
   data_.joint_regressor.makeCompressed();
   data_.skin_weights.makeCompressed();
   validate(data_);
+  shape_directions_f_ = data_.shape_directions.cast<float>();
 }
 
 int BodyModel::landmark(const std::string& name) const {
@@ -141,7 +142,8 @@ void BodyModel::rest_vertices(const Eigen::VectorXd& beta, Vertices& out) const 
   // Vertices is row-major N×3, so its storage is exactly the 3N vector the directions index.
   Eigen::Map<Eigen::VectorXd> flat(out.data(), out.size());
   flat = Eigen::Map<const Eigen::VectorXd>(data_.template_vertices.data(), data_.template_vertices.size());
-  if (beta.size() > 0) flat.noalias() += data_.shape_directions.leftCols(beta.size()) * beta;
+  if (beta.size() > 0)
+    flat += (shape_directions_f_.leftCols(beta.size()) * beta.cast<float>()).cast<double>();
 }
 
 Vertices BodyModel::rest_vertices(const Eigen::VectorXd& beta) const {

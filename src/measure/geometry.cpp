@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <unordered_map>
+#include <array>
+#include <cstdint>
 
 namespace caliper {
 
@@ -29,57 +29,60 @@ std::vector<std::vector<Eigen::Vector3d>> plane_section(const Vertices& vertices
   std::vector<double> d(static_cast<size_t>(nv));
   for (Eigen::Index v = 0; v < nv; ++v) {
     double s = (vertices.row(v).transpose() - point).dot(n);
-    if (s == 0.0) s = 1e-12;
-    d[static_cast<size_t>(v)] = s;
+    d[static_cast<size_t>(v)] = s == 0.0 ? 1e-12 : s;
   }
-  auto edge_key = [](std::int64_t a, std::int64_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint64_t>(b);
-  };
-  // Each crossed face contributes one segment between two crossed edges. Link segments by edge.
-  std::unordered_map<std::uint64_t, std::vector<std::uint64_t>> adjacency;  // edge → neighbouring edges
-  std::unordered_map<std::uint64_t, Eigen::Vector3d> crossing;
+  auto edge_key = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
+  // Each crossed face gives one segment joining its two crossed edges. Sorted vectors instead of
+  // hash maps: the cut touches a few hundred faces of many thousands, and order stays deterministic.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> segments;
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const std::uint64_t v0 = static_cast<std::uint64_t>(faces(f, 0)), v1 = static_cast<std::uint64_t>(faces(f, 1)),
+                        v2 = static_cast<std::uint64_t>(faces(f, 2));
+    const bool s0 = d[v0] < 0, s1 = d[v1] < 0, s2 = d[v2] < 0;
+    if (s0 == s1 && s1 == s2) continue;
     std::uint64_t crossed[2];
     int count = 0;
-    for (int k = 0; k < 3; ++k) {
-      const std::int64_t a = faces(f, k), b = faces(f, (k + 1) % 3);
-      const double da = d[static_cast<size_t>(a)], db = d[static_cast<size_t>(b)];
-      if ((da < 0) == (db < 0)) continue;
-      const std::uint64_t key = edge_key(a, b);
-      if (!crossing.count(key)) {
-        const double t = da / (da - db);
-        crossing[key] = vertices.row(a).transpose() + t * (vertices.row(b) - vertices.row(a)).transpose();
-      }
-      if (count < 2) crossed[count] = key;
-      ++count;
-    }
-    if (count == 2) {
-      adjacency[crossed[0]].push_back(crossed[1]);
-      adjacency[crossed[1]].push_back(crossed[0]);
-    }
+    if (s0 != s1) crossed[count++] = edge_key(v0, v1);
+    if (s1 != s2) crossed[count++] = edge_key(v1, v2);
+    if (s2 != s0 && count < 2) crossed[count++] = edge_key(v2, v0);
+    segments.push_back({crossed[0], crossed[1]});
   }
+  std::vector<std::uint64_t> edges;
+  edges.reserve(segments.size() * 2);
+  for (const auto& [a, b] : segments) { edges.push_back(a); edges.push_back(b); }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  auto index_of = [&](std::uint64_t key) {
+    return static_cast<size_t>(std::lower_bound(edges.begin(), edges.end(), key) - edges.begin());
+  };
+  // On a closed manifold each crossed edge borders exactly two crossed faces: two neighbours.
+  constexpr size_t kNone = static_cast<size_t>(-1);
+  std::vector<std::array<size_t, 2>> neighbours(edges.size(), {kNone, kNone});
+  auto link = [&](size_t a, size_t b) {
+    auto& slot = neighbours[a];
+    if (slot[0] == kNone) slot[0] = b; else if (slot[1] == kNone) slot[1] = b;
+  };
+  for (const auto& [a, b] : segments) {
+    const size_t ia = index_of(a), ib = index_of(b);
+    link(ia, ib);
+    link(ib, ia);
+  }
+  auto crossing = [&](std::uint64_t key) {
+    const Eigen::Index a = static_cast<Eigen::Index>(key >> 32), b = static_cast<Eigen::Index>(key & 0xffffffffu);
+    const double da = d[static_cast<size_t>(a)], db = d[static_cast<size_t>(b)];
+    const double t = da / (da - db);
+    return Eigen::Vector3d(vertices.row(a).transpose() + t * (vertices.row(b) - vertices.row(a)).transpose());
+  };
   std::vector<std::vector<Eigen::Vector3d>> loops;
-  std::unordered_map<std::uint64_t, bool> visited;
-  // Walk in a deterministic order (sorted keys) so results never depend on hash order.
-  std::vector<std::uint64_t> keys;
-  keys.reserve(adjacency.size());
-  for (const auto& kv : adjacency) keys.push_back(kv.first);
-  std::sort(keys.begin(), keys.end());
-  for (std::uint64_t start : keys) {
+  std::vector<char> visited(edges.size(), 0);
+  for (size_t start = 0; start < edges.size(); ++start) {
     if (visited[start]) continue;
     std::vector<Eigen::Vector3d> loop;
-    std::uint64_t prev = start, cur = start;
-    visited[start] = true;
-    loop.push_back(crossing[start]);
-    for (;;) {
-      const auto& nb = adjacency[cur];
-      std::uint64_t next = cur;
-      for (std::uint64_t c : nb)
-        if (c != prev && !visited[c]) { next = c; break; }
-      if (next == cur) break;  // closed (back at start) or open at a boundary
-      visited[next] = true;
-      loop.push_back(crossing[next]);
+    size_t prev = kNone, cur = start;
+    while (cur != kNone && !visited[cur]) {
+      visited[cur] = 1;
+      loop.push_back(crossing(edges[cur]));
+      const size_t next = neighbours[cur][0] != prev ? neighbours[cur][0] : neighbours[cur][1];
       prev = cur;
       cur = next;
     }

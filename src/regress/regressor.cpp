@@ -3,6 +3,8 @@
 
 #include <Eigen/QR>
 #include <algorithm>
+#include <atomic>
+#include <thread>
 #include <cmath>
 #include <sstream>
 
@@ -62,16 +64,31 @@ CornerDesign build_corner_design(const BodyModel& model, const std::vector<std::
   design.feature_names = measurements;
   design.betas.resize(corners, k);
   design.features.resize(corners, static_cast<Eigen::Index>(defs.size()));
-  Vertices rest;
-  Eigen::VectorXd beta(k);
-  for (Eigen::Index c = 0; c < corners; ++c) {
-    for (int i = 0; i < k; ++i) beta(i) = (c >> i) & 1 ? 2.0 : -2.0;  // ±2 SD (paper §3.4.3)
-    design.betas.row(c) = beta.transpose();
-    model.rest_vertices(beta, rest);
-    for (size_t m = 0; m < defs.size(); ++m)
-      design.features(c, static_cast<Eigen::Index>(m)) =
-          defs[m]->kind == MeasurementKind::Weight ? volume_feature(model, rest) : measure(model, *defs[m], rest);
-  }
+  for (Eigen::Index c = 0; c < corners; ++c)
+    for (int i = 0; i < k; ++i) design.betas(c, i) = (c >> i) & 1 ? 2.0 : -2.0;  // ±2 SD (paper §3.4.3)
+  // Corners are independent: two workers fill disjoint rows, so the result is the same bits as a
+  // single-threaded run.
+  std::atomic<Eigen::Index> next{0};
+  std::vector<std::string> errors(2);
+  auto worker = [&](int id) {
+    Vertices rest;
+    try {
+      for (Eigen::Index c = next++; c < corners; c = next++) {
+        model.rest_vertices(design.betas.row(c).transpose(), rest);
+        for (size_t m = 0; m < defs.size(); ++m)
+          design.features(c, static_cast<Eigen::Index>(m)) =
+              defs[m]->kind == MeasurementKind::Weight ? volume_feature(model, rest) : measure(model, *defs[m], rest);
+      }
+    } catch (const std::exception& e) {
+      errors[static_cast<size_t>(id)] = e.what();
+      next = corners;
+    }
+  };
+  std::thread helper(worker, 1);
+  worker(0);
+  helper.join();
+  for (const auto& e : errors)
+    if (!e.empty()) throw Error(ErrorKind::Unsupported, "measuring the corner bodies failed: " + e, "corner_design");
   return design;
 }
 

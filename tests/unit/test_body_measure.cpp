@@ -14,7 +14,7 @@ TEST(BodyModel, RestVerticesAreTemplatePlusDirections) {
   beta << 1.0, 0.0;
   const Vertices v = m.rest_vertices(beta);
   const int top = m.landmark("vertex");
-  EXPECT_NEAR(v(top, 1), 1.7 + 0.10, 1e-12);
+  EXPECT_NEAR(v(top, 1), 1.7 + 0.10, 1e-7);  // S·β in single precision
   EXPECT_NEAR(m.rest_vertices(Eigen::VectorXd())(top, 1), 1.7, 1e-12);  // shorter β = zeros
 }
 
@@ -110,8 +110,8 @@ TEST(Regressor, ReproducesLinearInputsExactly) {
   Regressor r(design, {"stature", "waist_breadth"}, "custom");
   std::map<std::string, double> target = {{"stature", 1.76}, {"waist_breadth", 0.33}};
   const Vertices v = m.rest_vertices(r.predict(m, target));
-  EXPECT_NEAR(measure(m, *m.find_measurement("stature"), v), 1.76, 1e-9);
-  EXPECT_NEAR(measure(m, *m.find_measurement("waist_breadth"), v), 0.33, 1e-9);
+  EXPECT_NEAR(measure(m, *m.find_measurement("stature"), v), 1.76, 1e-7);
+  EXPECT_NEAR(measure(m, *m.find_measurement("waist_breadth"), v), 0.33, 1e-7);
 }
 
 TEST(Regressor, TrainingIsBitForBitReproducible) {

@@ -1,0 +1,79 @@
+// Speed of the core pipeline on the built-in body (docs/performance.md):
+//   rest vertices for a β, training the four presets, measurements → .glb bytes.
+#include <benchmark/benchmark.h>
+
+#include "caliper/caliper.h"
+
+using namespace caliper;
+
+namespace {
+
+std::shared_ptr<const BodyModel> female_model() {
+  static auto model = std::make_shared<const BodyModel>(load_model("mannequin", Sex::Female));
+  return model;
+}
+
+std::map<std::string, double> typical_inputs() {
+  return measurements_from_edge({{"stature", 165}, {"weight", 62}, {"span", 167}, {"crotch_height", 77},
+                                 {"hip_breadth", 36}, {"arm_length", 55}});
+}
+
+void BM_RestVertices(benchmark::State& state) {
+  const auto model = female_model();
+  Eigen::VectorXd beta = Eigen::VectorXd::LinSpaced(model->shape_count(), -1.0, 1.0);
+  Vertices out;
+  for (auto _ : state) {
+    model->rest_vertices(beta, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["vertices"] = model->vertex_count();
+}
+BENCHMARK(BM_RestVertices)->Unit(benchmark::kMicrosecond);
+
+void BM_TrainFourPresets(benchmark::State& state) {
+  const auto model = female_model();
+  for (auto _ : state) {
+    AvatarBuilder builder(model);  // fresh: nothing cached
+    for (const auto& p : preset_names()) benchmark::DoNotOptimize(&builder.regressor(p, preset_inputs(p)));
+  }
+}
+BENCHMARK(BM_TrainFourPresets)->Unit(benchmark::kMillisecond);
+
+void BM_MeasurementsToGlb(benchmark::State& state) {
+  const auto model = female_model();
+  AvatarBuilder builder(model);
+  AvatarRequest req{typical_inputs(), "R5"};
+  builder.build(req);  // train once: the server keeps its builders
+  for (auto _ : state) {
+    const Avatar a = builder.build(req);
+    std::string glb = write_glb(*model, a.rest_vertices);
+    benchmark::DoNotOptimize(glb.data());
+  }
+}
+BENCHMARK(BM_MeasurementsToGlb)->Unit(benchmark::kMillisecond);
+
+void BM_MeasureAll(benchmark::State& state) {
+  const auto model = female_model();
+  const Vertices rest = model->rest_vertices(Eigen::VectorXd::Zero(model->shape_count()));
+  for (auto _ : state) benchmark::DoNotOptimize(measure_all(*model, rest));
+}
+BENCHMARK(BM_MeasureAll)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+
+
+namespace {
+void BM_VolumeAndSection(benchmark::State& state) {
+  const auto model = female_model();
+  const Vertices rest = model->rest_vertices(Eigen::VectorXd::Zero(model->shape_count()));
+  const auto* hip = model->find_measurement(state.range(0) ? "hip_breadth" : "stature");
+  for (auto _ : state) {
+    if (state.range(0)) benchmark::DoNotOptimize(measure(*model, *hip, rest));
+    else benchmark::DoNotOptimize(signed_volume(rest, model->faces()));
+  }
+  state.SetLabel(state.range(0) ? "hip_breadth section" : "volume");
+}
+BENCHMARK(BM_VolumeAndSection)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+}  // namespace
+BENCHMARK_MAIN();

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# End-to-end tests of the `caliper` command line: exit codes per failure kind, messages that
+# name the field and the accepted range, and real output files. Usage: cli_test.sh CALIPER_BINARY
+set -u
+CALIPER="$1"
+SRC="$(cd "$(dirname "$0")/../.." && pwd)"
+TMP="$(mktemp -d)"
+trap 'rm -rf "$TMP"' EXIT
+passed=0; failed=0
+
+# expect CODE "description" command...  — runs the command, checks its exit code; keeps output in $TMP/out
+expect() {
+  local code="$1" what="$2"; shift 2
+  "$@" >"$TMP/out" 2>&1
+  local got=$?
+  if [ "$got" = "$code" ]; then passed=$((passed + 1)); else
+    failed=$((failed + 1)); echo "FAIL: $what: exit $got, expected $code"; sed 's/^/    /' "$TMP/out" | head -20; fi
+}
+# says "text" "description" — the last command's output contains text
+says() {
+  if grep -qF -- "$1" "$TMP/out"; then passed=$((passed + 1)); else
+    failed=$((failed + 1)); echo "FAIL: $2: output lacks '$1'"; sed 's/^/    /' "$TMP/out" | head -20; fi
+}
+
+expect 0 "top-level help" "$CALIPER" --help
+for sub in avatar render measure isak "model info" "model list" "model build" "map fit"; do
+  # shellcheck disable=SC2086
+  expect 0 "help of $sub" "$CALIPER" $sub --help
+done
+expect 2 "no subcommand" "$CALIPER"
+expect 2 "unknown option" "$CALIPER" avatar --heigth 170 --weight 60 -o "$TMP/a.glb"
+expect 2 "missing output" "$CALIPER" avatar --height 170 --weight 60
+
+# Out-of-range and invalid values: exit 3, the message names the field and the range.
+expect 3 "NaN stature" "$CALIPER" avatar --height nan --weight 60 -o "$TMP/a.glb"
+says "stature" "NaN names the field"
+expect 3 "negative weight" "$CALIPER" avatar --height 170 --weight -3 -o "$TMP/a.glb"
+says "[10, 300] kg" "negative weight gives the range"
+expect 3 "stature in mm" "$CALIPER" avatar --height 1700 --weight 60 -o "$TMP/a.glb"
+says "[50, 250] cm" "absurd stature gives the range"
+expect 3 "infinite span" "$CALIPER" avatar --height 170 --weight 60 --arm-span inf -o "$TMP/a.glb"
+says "span" "infinite span names the field"
+expect 3 "bad sex" "$CALIPER" avatar --sex robot --height 170 --weight 60 -o "$TMP/a.glb"
+expect 3 "bad output extension" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/a.fbx"
+expect 3 "bad --set" "$CALIPER" avatar --height 170 --weight 60 --set chest_circumference=abc -o "$TMP/a.glb"
+expect 3 "ISAK with one value is a usage error" "$CALIPER" isak 170 -1
+expect 2 "ISAK with four values" "$CALIPER" isak 1 2 3 4
+
+# Unreadable and malformed files: exit 4.
+expect 4 "missing model" "$CALIPER" avatar --model /nonexistent/model.npz --height 170 --weight 60 -o "$TMP/a.glb"
+printf 'this is not a zip' > "$TMP/bad.npz"
+expect 4 "corrupt model" "$CALIPER" avatar --model "$TMP/bad.npz" --height 170 --weight 60 -o "$TMP/a.glb"
+expect 4 "unwritable output" "$CALIPER" avatar --height 170 --weight 60 -o /nonexistent/dir/a.glb
+printf 'measurement,real_cm,virtual_cm\nhip_width,abc,3\n' > "$TMP/pairs.csv"
+expect 4 "malformed pairs CSV" "$CALIPER" map fit "$TMP/pairs.csv" -o "$TMP/map.json"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$TMP/open.obj"
+expect 4 "open mesh has no volume" "$CALIPER" measure --mesh "$TMP/open.obj"
+
+# Unsupported: a regressor that needs a value not given.
+expect 5 "R5 without hip width" "$CALIPER" avatar --regressor R5 --height 170 --weight 60 --arm-span 172 --inseam 80 -o "$TMP/a.glb"
+says "hip_breadth" "missing input is named"
+
+# The main job works and writes what it says.
+expect 0 "avatar glb + report" "$CALIPER" avatar --sex female --height 165 --weight 60 --arm-span 168 --inseam 77 \
+  --hip-width 36 -o "$TMP/a.glb" --report "$TMP/r.json"
+expect 0 "report is JSON with the documented fields" node -e '
+  const r = JSON.parse(require("fs").readFileSync(process.argv[1]));
+  const ok = r.model && r.sex === "female" && r.regressor === "R5" && Array.isArray(r.beta) &&
+    ["plausible","unusual","implausible"].includes(r.plausibility.verdict) &&
+    Math.abs(r.measurements.stature.requested_cm - 165) < 1e-9 &&
+    typeof r.measurements.stature.achieved_cm === "number" &&
+    typeof r.measurements.weight.achieved_kg === "number" &&
+    r.measurements.chest_circumference && !("requested_cm" in r.measurements.chest_circumference);
+  process.exit(ok ? 0 : 1);' "$TMP/r.json"
+expect 0 "glb passes the Khronos validator" node "$SRC/tools/validate-gltf.mjs" "$TMP/a.glb"
+expect 0 "obj export" "$CALIPER" avatar --sex male --height 180 --weight 85 -o "$TMP/a.obj" -q
+expect 0 "measure the exported OBJ" "$CALIPER" measure --mesh "$TMP/a.obj" --sex male --json
+expect 0 "R2 via aliases and auto" "$CALIPER" avatar --sex male --height 180 --weight 85 -o "$TMP/b.glb" --report "$TMP/b.json" -q
+expect 0 "auto picked R2" grep -q '"regressor": "R2"' "$TMP/b.json"
+expect 0 "model info" "$CALIPER" model info mannequin --sex male
+says "vertices" "model info lists counts"
+expect 0 "model list" "$CALIPER" model list
+says "mannequin-female" "model list shows the built-in body"
+expect 0 "isak mean" "$CALIPER" isak 170 171
+says "mean_of_two" "ISAK rule is named"
+says "170.500" "ISAK mean value"
+expect 0 "render a PNG" "$CALIPER" render --sex female --height 165 --weight 60 -o "$TMP/a.png" --views front,side
+expect 0 "PNG signature" bash -c "head -c 8 '$TMP/a.png' | od -An -tx1 | grep -q '89 50 4e 47 0d 0a 1a 0a'"
+
+echo "$passed passed, $failed failed"
+[ "$failed" = 0 ]
