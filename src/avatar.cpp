@@ -12,6 +12,8 @@ namespace caliper {
 
 AvatarBuilder::AvatarBuilder(std::shared_ptr<const BodyModel> model) : model_(std::move(model)) {
   if (!model_) throw Error(ErrorKind::InvalidArgument, "no body model", "model");
+  auto it = model_->data().metadata.find("real_to_virtual");
+  if (it != model_->data().metadata.end()) maps_ = RealToVirtual::from_json(it->second);
 }
 
 namespace {
@@ -98,12 +100,18 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   const Regressor& r = regressor(key, inputs);
   avatar.regressor = key;
   avatar.inputs = inputs;
-  avatar.beta = r.predict(*model_, request.measurements);
+  avatar.targets = request.measurements;
+  if (request.apply_model_maps) maps_.apply(avatar.targets);
+  avatar.beta = r.predict(*model_, avatar.targets);
   avatar.rest_vertices = model_->rest_vertices(avatar.beta);
   avatar.joints = model_->joints(avatar.rest_vertices);
   avatar.plausibility = judge_plausibility(avatar.beta);
   avatar.requested = request.measurements;
-  avatar.achieved = measure_all(*model_, avatar.rest_vertices);
+  if (request.measure_only.empty()) {
+    avatar.achieved = measure_all(*model_, avatar.rest_vertices);
+  } else {
+    avatar.achieved = measure_some(*model_, request.measure_only, avatar.rest_vertices);
+  }
   return avatar;
 }
 

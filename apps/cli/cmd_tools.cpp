@@ -127,12 +127,7 @@ void register_model(CLI::App& app) {
     mannequin::PopulationOptions po;
     po.components = *components;
     po.threads = std::max(1u, std::thread::hardware_concurrency());
-    po.progress = [](int done, int total) {
-      const int width = 40, filled = total ? done * width / total : width;
-      std::cerr << "\rgenerating bodies [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << done
-                << "/" << total << std::flush;
-      if (done == total) std::cerr << "\n";
-    };
+    po.progress = progress_bar("generating bodies");
     mannequin::PopulationReport rep;
     BodyModel model = mannequin::build_mannequin_model(subjects, sex, po, &rep);
     save_model(model, *out);

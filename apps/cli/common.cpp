@@ -2,6 +2,7 @@
 
 #include <fstream>
 #include <iostream>
+#include <unistd.h>
 
 namespace caliper::cli {
 
@@ -43,7 +44,7 @@ void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta) {
   add_measurement(app, opts, "arm_length", "--arm-length");
   app.add_option("--set", opts.extra, "any other measurement as NAME=VALUE (cm or kg), e.g. chest_circumference=95")
       ->type_name("NAME=VALUE");
-  app.add_option("--map", opts.map_file, "real-to-virtual map (JSON, see `caliper map fit`) applied to the inputs");
+  app.add_option("--map", opts.map_file, "real-to-virtual map (JSON, see `caliper map fit`) applied to the inputs instead of the model's own");
   if (allow_beta)
     app.add_option("--beta", opts.beta, "shape values instead of measurements (comma separated)")->delimiter(',');
 }
@@ -82,9 +83,14 @@ BuiltAvatar build_avatar(const BodyOptions& opts) {
     a.achieved = measure_all(*out.model, a.rest_vertices);
     return out;
   }
-  if (!opts.map_file.empty()) RealToVirtual::load(opts.map_file).apply(si);
+  AvatarRequest request{si, opts.regressor};
+  if (!opts.map_file.empty()) {
+    // A user's own map replaces the model's default one.
+    RealToVirtual::load(opts.map_file).apply(request.measurements);
+    request.apply_model_maps = false;
+  }
   AvatarBuilder builder(out.model);
-  out.avatar = builder.build({si, opts.regressor});
+  out.avatar = builder.build(request);
   return out;
 }
 
@@ -93,6 +99,26 @@ void write_file(const std::string& path, const std::string& bytes) {
   if (!f) throw Error(ErrorKind::Io, "cannot write '" + path + "'", path);
   f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (!f) throw Error(ErrorKind::Io, "failed writing '" + path + "'", path);
+}
+
+std::function<void(int, int)> progress_bar(const std::string& label) {
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  auto last = std::make_shared<int>(-1);
+  return [=](int done, int total) {
+    const int width = 40, filled = total ? done * width / total : width;
+    if (tty) {
+      if (filled == *last && done != total) return;
+      *last = filled;
+      std::cerr << "\r" << label << " [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << done
+                << "/" << total << std::flush;
+      if (done == total) std::cerr << "\n";
+    } else {
+      const int tenth = total ? done * 10 / total : 10;
+      if (tenth == *last) return;
+      *last = tenth;
+      std::cerr << label << ": " << done << "/" << total << "\n";
+    }
+  };
 }
 
 }  // namespace caliper::cli

@@ -43,11 +43,17 @@ BuiltAvatar build_avatar(const BodyOptions& opts);
 
 void write_file(const std::string& path, const std::string& bytes);
 
+// A progress bar on stderr for long work: redrawn in place on a terminal, a line per 10 % otherwise.
+std::function<void(int, int)> progress_bar(const std::string& label);
+
 void register_avatar(CLI::App& app);
 void register_measure(CLI::App& app);
 void register_model(CLI::App& app);
 void register_isak(CLI::App& app);
 void register_map(CLI::App& app);
+void register_eval(CLI::App& app);
+void register_batch(CLI::App& app);
 void register_render(CLI::App& app);
+void register_serve(CLI::App& app);  // cmd_serve.cpp: the desktop tool
 
 }  // namespace caliper::cli

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "caliper/body/body_model.h"
+#include "caliper/protocol/real_to_virtual.h"
 #include "caliper/regress/regressor.h"
 
 namespace caliper {
@@ -14,6 +15,13 @@ namespace caliper {
 struct AvatarRequest {
   std::map<std::string, double> measurements;  // canonical name → SI value (m, kg), checked
   std::string regressor = "auto";              // R2, R4, R5, R6, auto, or "custom:a,b,c"
+  // Apply the model's own real → virtual maps (metadata "real_to_virtual", paper §3.3) to the
+  // measurements before regressing: they are real measurements of a person, the regressor
+  // needs what the avatar's rest pose shows (e.g. arm length taken with the arm hanging).
+  bool apply_model_maps = true;
+  // Measure only these on the avatar (empty: every measurement the model knows). Evaluation
+  // uses it to skip the sections it does not compare.
+  std::vector<std::string> measure_only;
 };
 
 struct Avatar {
@@ -24,13 +32,15 @@ struct Avatar {
   Eigen::MatrixX3d joints;                     // J×3
   Plausibility plausibility;
   std::map<std::string, double> requested;     // SI, as given
-  std::map<std::string, double> achieved;      // SI, every measurement the model knows
+  std::map<std::string, double> targets;       // SI, after real → virtual maps (what was regressed on)
+  std::map<std::string, double> achieved;      // SI, every measurement the model knows (or measure_only)
 };
 
 class AvatarBuilder {
  public:
   explicit AvatarBuilder(std::shared_ptr<const BodyModel> model);
   const BodyModel& model() const { return *model_; }
+  const RealToVirtual& model_maps() const { return maps_; }
 
   // Throws Error(Unsupported) when the regressor needs a measurement that was not given or the
   // model lacks, Error(InvalidArgument) for an unknown regressor name.
@@ -41,6 +51,7 @@ class AvatarBuilder {
 
  private:
   std::shared_ptr<const BodyModel> model_;
+  RealToVirtual maps_;
   mutable std::mutex mutex_;
   mutable std::unique_ptr<CornerDesign> design_;
   mutable std::map<std::string, std::unique_ptr<Regressor>> regressors_;

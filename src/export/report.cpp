@@ -37,7 +37,11 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
     auto req = avatar.requested.find(name);
     if (req != avatar.requested.end()) m["requested" + suffix] = round_to(req->second * scale, 1e-3);
     m["achieved" + suffix] = round_to(achieved * scale, 1e-3);
-    if (req != avatar.requested.end()) m["difference" + suffix] = round_to((achieved - req->second) * scale, 1e-3);
+    auto target = avatar.targets.find(name);
+    const bool mapped = target != avatar.targets.end() && req != avatar.requested.end() && target->second != req->second;
+    if (mapped) m["virtual_target" + suffix] = round_to(target->second * scale, 1e-3);
+    if (req != avatar.requested.end())
+      m["difference" + suffix] = round_to((achieved - (mapped ? target->second : req->second)) * scale, 1e-3);
     ms[name] = m;
   }
   // Requested values the model cannot measure are still reported, so nothing the user gave vanishes.

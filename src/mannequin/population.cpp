@@ -9,39 +9,15 @@
 #include <thread>
 
 #include "caliper/errors.h"
+#include "caliper/random.h"
 #include "caliper/mannequin/generator.h"
 #include "caliper/measure/geometry.h"
+#include "caliper/measure/measure.h"
+#include "caliper/protocol/real_to_virtual.h"
 
 namespace caliper::mannequin {
 
 namespace {
-
-// Standard normal numbers from a fixed 64-bit generator and Box–Muller, so the randomized SVD
-// is the same on every machine and library version (std::normal_distribution is not).
-class Normal {
- public:
-  explicit Normal(std::uint64_t seed) : state_(seed ? seed : 1) {}
-  double operator()() {
-    if (has_spare_) { has_spare_ = false; return spare_; }
-    double u1 = uniform(), u2 = uniform();
-    const double r = std::sqrt(-2.0 * std::log(u1)), t = 2.0 * M_PI * u2;
-    spare_ = r * std::sin(t);
-    has_spare_ = true;
-    return r * std::cos(t);
-  }
-
- private:
-  double uniform() {  // splitmix64 → (0, 1)
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return (static_cast<double>(z >> 11) + 0.5) / 9007199254740992.0;
-  }
-  std::uint64_t state_;
-  double spare_ = 0;
-  bool has_spare_ = false;
-};
 
 Eigen::MatrixXd orthonormalize(const Eigen::MatrixXd& m) {
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(m);
@@ -112,10 +88,10 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
   const Eigen::RowVectorXd mean = bodies.colwise().mean();
   bodies.rowwise() -= mean;
   const int l = std::min(n, k + 12);
-  Normal normal(options.seed);
+  NormalGenerator normal(options.seed);
   Eigen::MatrixXd omega(n, l);
   for (Eigen::Index c = 0; c < omega.cols(); ++c)
-    for (Eigen::Index r = 0; r < omega.rows(); ++r) omega(r, c) = normal();
+    for (Eigen::Index r = 0; r < omega.rows(); ++r) omega(r, c) = normal.normal();
   Eigen::MatrixXd q = orthonormalize(bodies.transpose() * omega);  // dim × l
   for (int it = 0; it < 4; ++it) q = orthonormalize(bodies.transpose() * orthonormalize(bodies * q));
   const Eigen::MatrixXd b = bodies * q;  // n × l
@@ -179,6 +155,47 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
                 {"weight_mae_fitted_kg", std::to_string(mae_fit)},
                 {"weight_mae_paper_kg", std::to_string(mae_paper)},
                 {"rebuild", "caliper model build mannequin --ansur ../shared/data/ansur2 --sex " + std::string(to_string(sex))}};
+  // Real → virtual maps (paper §3.3) for the Virtual Caliper inputs whose virtual measurement on
+  // the generated body differs systematically from the real one (e.g. arm length: ANSUR measures
+  // it with the arm hanging, the avatar stands in a T-pose). Fitted on these same bodies.
+  {
+    BodyModel provisional{BodyModelData(d)};
+    RealToVirtual maps;
+    std::ostringstream fits;
+    for (const auto& [name, real_of] : std::vector<std::pair<std::string, std::function<double(const AnsurSubject&)>>>{
+             {"span", [](const AnsurSubject& s) { return s.values.at("span"); }},
+             {"crotch_height", [](const AnsurSubject& s) { return s.values.at("crotchheight"); }},
+             {"hip_breadth", [](const AnsurSubject& s) { return s.values.at("hipbreadth"); }},
+             {"arm_length", [](const AnsurSubject& s) {
+                return s.values.at("acromionradialelength") + s.values.at("radialestylionlength");
+              }}}) {
+      const MeasurementDefinition* def = provisional.find_measurement(name);
+      if (!def) continue;
+      Eigen::MatrixXd xr(n, 2);
+      Eigen::VectorXd yv(n);
+      for (int i = 0; i < n; ++i) {
+        const Eigen::RowVectorXd body = bodies.row(i) + mean;
+        const Vertices v = Eigen::Map<const Vertices>(body.data(), topo.vertex_count, 3);
+        xr(i, 0) = real_of(*subjects[static_cast<size_t>(i)]);
+        xr(i, 1) = 1.0;
+        yv(i) = measure(provisional, *def, v);
+      }
+      const Eigen::Vector2d fit = xr.colPivHouseholderQr().solve(yv);
+      const double rmse = std::sqrt((xr * fit - yv).squaredNorm() / n);
+      const double mean_gap = (yv - xr.col(0)).cwiseAbs().mean();
+      fits << name << ": virtual = " << fit(0) << " * real + " << fit(1) * 100 << " cm (rmse " << rmse * 100
+           << " cm, mean |virtual - real| " << mean_gap * 100 << " cm); ";
+      if (mean_gap < 0.002) continue;  // reproduced by construction: identity
+      LinearMap lm;
+      lm.slope = fit(0);
+      lm.offset = fit(1);
+      lm.pairs = n;
+      lm.rmse = rmse;
+      maps.set(name, lm);
+    }
+    d.metadata["real_to_virtual"] = maps.to_json();
+    d.metadata["real_to_virtual_fits"] = fits.str();
+  }
   if (report) {
     report->subjects = n;
     report->explained_variance = explained;

@@ -58,7 +58,21 @@ double extent(const std::vector<Eigen::Vector3d>& loop, int axis) {
 
 }  // namespace
 
-double measure(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest) {
+namespace {
+
+using SectionCache = std::map<std::pair<std::string, Axis>, std::vector<Eigen::Vector3d>>;
+
+const std::vector<Eigen::Vector3d>& cached_loop(const BodyModel& model, const MeasurementDefinition& def,
+                                                const Vertices& rest, SectionCache* cache, std::vector<Eigen::Vector3d>& own) {
+  if (!cache) return own = nearest_loop(model, def, rest);
+  const auto key = std::make_pair(def.landmarks.empty() ? std::string() : def.landmarks[0], def.plane_normal);
+  auto it = cache->find(key);
+  if (it == cache->end()) it = cache->emplace(key, nearest_loop(model, def, rest)).first;
+  return it->second;
+}
+
+double measure_with(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest, SectionCache* cache) {
+  std::vector<Eigen::Vector3d> own;
   switch (def.kind) {
     case MeasurementKind::Height: {
       if (def.landmarks.empty()) throw Error(ErrorKind::Format, "height '" + def.name + "' needs a landmark", def.name);
@@ -73,10 +87,10 @@ double measure(const BodyModel& model, const MeasurementDefinition& def, const V
         total += (rest.row(model.landmark(def.landmarks[i])) - rest.row(model.landmark(def.landmarks[i - 1]))).norm();
       return total;
     }
-    case MeasurementKind::Breadth: return extent(nearest_loop(model, def, rest), 0);
-    case MeasurementKind::Depth: return extent(nearest_loop(model, def, rest), 2);
+    case MeasurementKind::Breadth: return extent(cached_loop(model, def, rest, cache, own), 0);
+    case MeasurementKind::Depth: return extent(cached_loop(model, def, rest, cache, own), 2);
     case MeasurementKind::Circumference: {
-      const auto loop = nearest_loop(model, def, rest);
+      const auto& loop = cached_loop(model, def, rest, cache, own);
       std::vector<Eigen::Vector2d> flat;
       flat.reserve(loop.size());
       for (const auto& q : loop) flat.push_back(in_plane(q, def.plane_normal));
@@ -90,9 +104,25 @@ double measure(const BodyModel& model, const MeasurementDefinition& def, const V
   return 0;
 }
 
+}  // namespace
+
+double measure(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest) {
+  return measure_with(model, def, rest, nullptr);
+}
+
 std::map<std::string, double> measure_all(const BodyModel& model, const Vertices& rest) {
   std::map<std::string, double> out;
-  for (const auto& def : model.data().measurements) out[def.name] = measure(model, def, rest);
+  SectionCache cache;
+  for (const auto& def : model.data().measurements) out[def.name] = measure_with(model, def, rest, &cache);
+  return out;
+}
+
+std::map<std::string, double> measure_some(const BodyModel& model, const std::vector<std::string>& names,
+                                           const Vertices& rest) {
+  std::map<std::string, double> out;
+  SectionCache cache;
+  for (const auto& name : names)
+    if (const MeasurementDefinition* def = model.find_measurement(name)) out[name] = measure_with(model, *def, rest, &cache);
   return out;
 }
 

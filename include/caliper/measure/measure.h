@@ -2,6 +2,7 @@
 #pragma once
 #include <map>
 #include <string>
+#include <vector>
 
 #include "caliper/body/body_model.h"
 
@@ -13,6 +14,10 @@ double measure(const BodyModel& model, const MeasurementDefinition& definition, 
 
 // All of the model's measurements, by name, SI units.
 std::map<std::string, double> measure_all(const BodyModel& model, const Vertices& rest);
+// The named ones the model knows (others are skipped), by name, SI units. Sections through the
+// same landmark and plane are cut once and shared (chest breadth, depth and circumference).
+std::map<std::string, double> measure_some(const BodyModel& model, const std::vector<std::string>& names,
+                                           const Vertices& rest);
 
 // What can be measured on a bare mesh without landmarks: stature (vertical extent), volume (m³)
 // and weight by the given coefficients. Throws Error(Format) if the mesh is not closed.

@@ -1,0 +1,298 @@
+// Evaluation against real people (ANSUR II) and a synthetic surface study (paper §4.2).
+#include "caliper/evaluation/evaluate.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "caliper/errors.h"
+#include "caliper/measure/catalogue.h"
+#include "caliper/measure/measure.h"
+#include "caliper/random.h"
+
+namespace caliper {
+
+MeasurementNoise parse_noise(const std::string& text) {
+  if (text == "none") return MeasurementNoise::None;
+  if (text == "self") return MeasurementNoise::Self;
+  if (text == "other") return MeasurementNoise::Other;
+  throw Error(ErrorKind::InvalidArgument, "noise must be none, self or other (got '" + text + "')", "noise");
+}
+
+const char* to_string(MeasurementNoise noise) {
+  switch (noise) {
+    case MeasurementNoise::None: return "none";
+    case MeasurementNoise::Self: return "self";
+    case MeasurementNoise::Other: return "other";
+  }
+  return "none";
+}
+
+std::map<std::string, double> table2_mae(MeasurementNoise noise) {
+  // Paper Table 2, MAE in cm, self / other.
+  if (noise == MeasurementNoise::Self)
+    return {{"stature", 0.0153}, {"span", 0.0201}, {"arm_length", 0.0129}, {"crotch_height", 0.0206}, {"hip_breadth", 0.0077}};
+  if (noise == MeasurementNoise::Other)
+    return {{"stature", 0.0147}, {"span", 0.0172}, {"arm_length", 0.0076}, {"crotch_height", 0.0246}, {"hip_breadth", 0.0065}};
+  return {};
+}
+
+const std::vector<std::pair<std::string, std::string>>& held_out_columns() {
+  static const std::vector<std::pair<std::string, std::string>> cols = {
+      {"chestcircumference", "chest_circumference"}, {"waistcircumference", "waist_circumference"},
+      {"buttockcircumference", "buttock_circumference"}, {"thighcircumference", "thigh_circumference"},
+      {"calfcircumference", "calf_circumference"}, {"biacromialbreadth", "biacromial_breadth"},
+      {"chestbreadth", "chest_breadth"}, {"chestdepth", "chest_depth"}, {"waistbreadth", "waist_breadth"},
+      {"waistdepth", "waist_depth"}, {"acromialheight", "acromial_height"}, {"waistheightomphalion", "waist_height"}};
+  return cols;
+}
+
+namespace {
+
+// The Virtual Caliper inputs under the names the evaluation reports (ANSUR's, lowercase).
+const std::vector<std::pair<std::string, std::string>>& input_keys() {
+  static const std::vector<std::pair<std::string, std::string>> keys = {
+      {"stature", "stature"}, {"weight", "weight"}, {"span", "span"}, {"crotch_height", "crotchheight"},
+      {"hip_breadth", "hipbreadth"}, {"arm_length", "armlength"}};
+  return keys;
+}
+
+// One subject's signed errors per method and key (NaN = not applicable), and plausibility.
+struct SubjectErrors {
+  std::map<std::string, std::map<std::string, double>> inputs, held_out;
+  std::map<std::string, bool> implausible, failed;
+};
+
+ErrorStats stats_of(const std::vector<double>& errors) {
+  ErrorStats s;
+  for (double e : errors) {
+    if (std::isnan(e)) continue;
+    s.mae += std::abs(e);
+    s.bias += e;
+    s.max = std::max(s.max, std::abs(e));
+    ++s.count;
+  }
+  if (s.count) { s.mae /= s.count; s.bias /= s.count; }
+  return s;
+}
+
+std::vector<std::string> measured_names() {
+  std::vector<std::string> names;
+  for (const auto& [canonical, key] : input_keys()) names.push_back(canonical);
+  for (const auto& [col, m] : held_out_columns()) names.push_back(m);
+  return names;
+}
+
+void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Vertices& mean_body,
+                  const EvaluationOptions& opt, std::uint64_t subject_seed, SubjectErrors& out) {
+  const std::map<std::string, double> truth = virtual_caliper_inputs(s);
+  std::map<std::string, double> noisy = truth;
+  NormalGenerator rng(subject_seed);
+  for (const auto& [name, mae] : table2_mae(opt.noise)) noisy[name] += rng.normal() * mae * std::sqrt(M_PI / 2);
+  const RealToVirtual& maps = builder.model_maps();
+  const BodyModel& model = builder.model();
+
+  auto held_out_errors = [&](const std::map<std::string, double>& achieved, const std::vector<std::string>& used,
+                             std::map<std::string, double>& errs) {
+    for (const auto& [col, m] : held_out_columns()) {
+      auto it = achieved.find(m);
+      errs[col] = it == achieved.end() ? NAN : it->second - s.values.at(col);
+    }
+    for (const auto& [canonical, key] : input_keys()) {
+      if (std::find(used.begin(), used.end(), canonical) != used.end()) continue;
+      auto it = achieved.find(canonical);
+      // A real measurement compares with the avatar through the model's real → virtual map.
+      errs[key] = it == achieved.end() ? NAN : it->second - maps.map(canonical).apply(truth.at(canonical));
+    }
+  };
+
+  std::vector<std::string> methods = opt.regressors;
+  const bool r2_evaluated = std::find(methods.begin(), methods.end(), "R2") != methods.end();
+  if (opt.baselines && !r2_evaluated) methods.push_back("baseline:R2");
+  for (const auto& method : methods) {
+    const std::string regressor = method.rfind("baseline:", 0) == 0 ? method.substr(9) : method;
+    try {
+      AvatarRequest req{noisy, regressor};
+      req.measure_only = measured_names();
+      const Avatar a = builder.build(req);
+      for (const auto& in : a.inputs) {
+        const auto key = std::find_if(input_keys().begin(), input_keys().end(), [&](auto& k) { return k.first == in; });
+        out.inputs[method][key == input_keys().end() ? in : key->second] = a.achieved.at(in) - a.targets.at(in);
+      }
+      held_out_errors(a.achieved, a.inputs, out.held_out[method]);
+      out.implausible[method] = a.plausibility.overall == Verdict::Implausible;
+    } catch (const Error&) {
+      out.failed[method] = true;
+    }
+  }
+  if (opt.baselines && r2_evaluated) {  // the R2 baseline is the R2 regressor: computed once
+    if (out.failed.count("R2")) out.failed["baseline:R2"] = true;
+    if (out.inputs.count("R2")) out.inputs["baseline:R2"] = out.inputs["R2"];
+    if (out.held_out.count("R2")) out.held_out["baseline:R2"] = out.held_out["R2"];
+    if (out.implausible.count("R2")) out.implausible["baseline:R2"] = out.implausible["R2"];
+  }
+  if (opt.baselines) {
+    // The mean body scaled uniformly (about the floor centre) to the subject's stature.
+    const Vertices& mean = mean_body;
+    const double mean_stature = measure(model, *model.find_measurement("stature"), mean);
+    const Vertices scaled = mean * (noisy.at("stature") / mean_stature);
+    const std::map<std::string, double> achieved = measure_some(model, measured_names(), scaled);
+    out.inputs["baseline:uniform_scale"]["stature"] = achieved.at("stature") - noisy.at("stature");
+    held_out_errors(achieved, {"stature"}, out.held_out["baseline:uniform_scale"]);
+    out.implausible["baseline:uniform_scale"] = false;
+  }
+}
+
+}  // namespace
+
+Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
+                             const std::function<std::shared_ptr<const AvatarBuilder>(Sex)>& builder_for,
+                             const EvaluationOptions& opt) {
+  for (const auto& r : opt.regressors) {
+    std::string upper = r;
+    for (auto& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (upper != "AUTO") preset_inputs(upper);  // unknown names fail before any work
+  }
+  const int n = static_cast<int>(subjects.size());
+  // Builders are fetched (and their regressors trained) before the workers start.
+  std::map<Sex, std::shared_ptr<const AvatarBuilder>> builders;
+  std::map<Sex, Vertices> means;
+  for (const auto& s : subjects)
+    if (!builders.count(s.sex)) {
+      builders[s.sex] = builder_for(s.sex);
+      means[s.sex] = builders[s.sex]->model().rest_vertices(Eigen::VectorXd());
+    }
+  std::vector<SubjectErrors> per(static_cast<size_t>(n));
+  std::atomic<int> next{0}, done{0};
+  std::vector<std::string> errors(static_cast<size_t>(n));
+  auto worker = [&] {
+    for (int i = next++; i < n; i = next++) {
+      try {
+        const Sex sex = subjects[static_cast<size_t>(i)].sex;
+        evaluate_one(subjects[static_cast<size_t>(i)], *builders.at(sex), means.at(sex), opt,
+                     opt.seed * 1000003ULL + static_cast<std::uint64_t>(i), per[static_cast<size_t>(i)]);
+      } catch (const std::exception& e) {
+        errors[static_cast<size_t>(i)] = e.what();
+      }
+      ++done;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, opt.threads); ++t) pool.emplace_back(worker);
+  if (opt.progress) {
+    std::thread own(worker);
+    while (done.load() < n) {
+      opt.progress(done.load(), n);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    own.join();
+    opt.progress(n, n);
+  } else {
+    worker();
+  }
+  for (auto& t : pool) t.join();
+  for (int i = 0; i < n; ++i)
+    if (!errors[static_cast<size_t>(i)].empty())
+      throw Error(ErrorKind::Format, "subject " + subjects[static_cast<size_t>(i)].id + ": " + errors[static_cast<size_t>(i)], "subjects");
+
+  Evaluation ev;
+  ev.subjects = n;
+  ev.noise = opt.noise;
+  ev.seed = opt.seed;
+  std::vector<std::string> methods = opt.regressors;
+  if (opt.baselines) { methods.push_back("baseline:uniform_scale"); methods.push_back("baseline:R2"); }
+  for (const auto& method : methods) {
+    MethodEvaluation me;
+    std::map<std::string, std::vector<double>> in, out;
+    int implausible = 0, built = 0;
+    for (const auto& p : per) {
+      if (p.failed.count(method)) { ++me.failures; continue; }
+      ++built;
+      if (p.implausible.count(method) && p.implausible.at(method)) ++implausible;
+      if (p.inputs.count(method)) for (const auto& [k, e] : p.inputs.at(method)) in[k].push_back(e);
+      if (p.held_out.count(method)) for (const auto& [k, e] : p.held_out.at(method)) out[k].push_back(e);
+    }
+    for (const auto& [k, v] : in) me.inputs[k] = stats_of(v);
+    for (const auto& [k, v] : out) me.held_out[k] = stats_of(v);
+    me.implausible_share = built ? static_cast<double>(implausible) / built : 0;
+    if (method.rfind("baseline:", 0) == 0) ev.baselines[method.substr(9)] = me;
+    else ev.regressors[method] = me;
+  }
+  return ev;
+}
+
+std::string evaluation_json(const Evaluation& ev, int indent) {
+  using nlohmann::ordered_json;
+  auto method_json = [](const MethodEvaluation& me) {
+    ordered_json j;
+    j["inputs"] = ordered_json::object();
+    for (const auto& [k, s] : me.inputs) {
+      const bool kg = k == "weight";
+      const double f = kg ? 1 : 100;
+      const std::string u = kg ? "_kg" : "_cm";
+      j["inputs"][k] = {{"mae" + u, s.mae * f}, {"max" + u, s.max * f}, {"bias" + u, s.bias * f}, {"n", s.count}};
+    }
+    j["held_out"] = ordered_json::object();
+    for (const auto& [k, s] : me.held_out) {
+      const bool kg = k == "weight";
+      const double f = kg ? 1 : 100;
+      const std::string u = kg ? "_kg" : "_cm";
+      j["held_out"][k] = {{"mae" + u, s.mae * f}, {"bias" + u, s.bias * f}, {"max" + u, s.max * f}, {"n", s.count}};
+    }
+    j["implausible_share"] = me.implausible_share;
+    j["failures"] = me.failures;
+    return j;
+  };
+  ordered_json j;
+  j["subjects"] = ev.subjects;
+  j["noise"] = to_string(ev.noise);
+  j["seed"] = ev.seed;
+  j["regressors"] = ordered_json::object();
+  for (const auto& [name, me] : ev.regressors) j["regressors"][name] = method_json(me);
+  j["baselines"] = ordered_json::object();
+  for (const auto& [name, me] : ev.baselines) j["baselines"][name] = method_json(me);
+  return j.dump(indent) + "\n";
+}
+
+std::map<std::string, SurfaceStats> synthetic_surface_study(const AvatarBuilder& builder,
+                                                            const std::vector<std::string>& regressors,
+                                                            MeasurementNoise noise, int bodies, std::uint64_t seed) {
+  if (bodies < 1 || bodies > 100000) throw Error(ErrorKind::OutOfRange, "bodies must be in [1, 100000]", "bodies");
+  const BodyModel& model = builder.model();
+  NormalGenerator rng(seed);
+  // Align as the paper does: common floor, bounding boxes centred in x and z.
+  auto align = [](Vertices v) {
+    const Eigen::RowVector3d lo = v.colwise().minCoeff(), hi = v.colwise().maxCoeff();
+    v.col(0).array() -= (lo.x() + hi.x()) / 2;
+    v.col(2).array() -= (lo.z() + hi.z()) / 2;
+    v.col(1).array() -= lo.y();
+    return v;
+  };
+  std::map<std::string, SurfaceStats> out;
+  std::vector<std::string> inputs = {"stature", "weight", "span", "crotch_height", "hip_breadth", "arm_length"};
+  for (int b = 0; b < bodies; ++b) {
+    Eigen::VectorXd beta(model.shape_count());
+    for (auto& x : beta) x = rng.normal();
+    const Vertices truth = align(model.rest_vertices(beta));
+    std::map<std::string, double> m;
+    for (const auto& name : inputs) m[name] = measure(model, *model.find_measurement(name), truth);
+    // The synthetic person's "real" measurements are the virtual ones: no real → virtual map.
+    for (const auto& [name, mae] : table2_mae(noise)) m[name] += rng.normal() * mae * std::sqrt(M_PI / 2);
+    for (const auto& r : regressors) {
+      AvatarRequest req{m, r};
+      req.apply_model_maps = false;
+      req.measure_only = {"stature"};
+      const Vertices rebuilt = align(builder.build(req).rest_vertices);
+      const Eigen::VectorXd dist = (rebuilt - truth).rowwise().norm();
+      SurfaceStats& s = out[r];
+      s.mean_cm += dist.mean() * 100 / bodies;
+      s.max_cm += dist.maxCoeff() * 100 / bodies;
+      s.worst_cm = std::max(s.worst_cm, dist.maxCoeff() * 100);
+    }
+  }
+  return out;
+}
+
+}  // namespace caliper

@@ -1,0 +1,155 @@
+// Invariants over the committed built-in body models (models/mannequin-*.npz): topology,
+// landmarks, joints, sampled bodies, regressors and posing on the real thing.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "caliper/caliper.h"
+
+using namespace caliper;
+
+namespace {
+
+class BuiltinModel : public ::testing::TestWithParam<Sex> {
+ protected:
+  static std::shared_ptr<const BodyModel> model(Sex sex) {
+    static std::map<Sex, std::shared_ptr<const BodyModel>> cache;
+    auto& m = cache[sex];
+    if (!m) m = std::make_shared<const BodyModel>(load_model("mannequin", sex));
+    return m;
+  }
+};
+
+double height_of(const BodyModel& m, const Vertices& v, const std::string& name) {
+  return measure(m, *m.find_measurement(name), v);
+}
+
+}  // namespace
+
+TEST_P(BuiltinModel, CountsAndTopology) {
+  const auto m = model(GetParam());
+  EXPECT_GE(m->vertex_count(), 7000);
+  EXPECT_LE(m->vertex_count(), 15000);
+  EXPECT_EQ(m->joint_count(), 24);
+  EXPECT_EQ(m->data().joint_names, smpl_joint_names());
+  EXPECT_EQ(m->shape_count(), 10);
+  const MeshCheck c = check_mesh(m->faces(), m->vertex_count());
+  EXPECT_TRUE(c.closed);
+  EXPECT_TRUE(c.manifold);
+  EXPECT_TRUE(c.consistently_oriented);
+  EXPECT_EQ(c.unused_vertices, 0);
+  EXPECT_EQ(c.degenerate_faces, 0);
+}
+
+TEST_P(BuiltinModel, SampledBodiesAreSoundAndOrdered) {
+  const auto m = model(GetParam());
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
+  for (int sample = 0; sample < 25; ++sample) {
+    Eigen::VectorXd beta(m->shape_count());
+    for (auto& b : beta) b = sample == 0 ? 0.0 : 1.5 * normal(rng);
+    const Vertices v = m->rest_vertices(beta);
+    ASSERT_TRUE(v.allFinite());
+    EXPECT_NEAR(v.col(1).minCoeff(), 0.0, 0.02) << "feet stay near the floor";
+    EXPECT_GT(signed_volume(v, m->faces()), 0.02);
+    const double ankle = height_of(*m, v, "lateral_malleolus_height"), knee = height_of(*m, v, "knee_height"),
+                 crotch = height_of(*m, v, "crotch_height"), waist = height_of(*m, v, "waist_height"),
+                 chest = height_of(*m, v, "chest_height"), acromion = height_of(*m, v, "acromial_height"),
+                 stature = height_of(*m, v, "stature");
+    EXPECT_LT(ankle, knee);
+    EXPECT_LT(knee, crotch);
+    EXPECT_LT(crotch, waist);
+    EXPECT_LT(waist, chest);
+    EXPECT_LT(chest, acromion);
+    EXPECT_LT(acromion, stature);
+    EXPECT_GT(stature, 1.2);
+    EXPECT_LT(stature, 2.2);
+  }
+}
+
+TEST_P(BuiltinModel, LandmarksAreMirrorSymmetric) {
+  const auto m = model(GetParam());
+  const Vertices v = m->rest_vertices(Eigen::VectorXd::Zero(m->shape_count()));
+  int pairs = 0;
+  for (const auto& [name, index] : m->data().landmarks) {
+    const auto pos = name.rfind("_left");
+    if (pos == std::string::npos || pos + 5 != name.size()) continue;
+    const std::string right = name.substr(0, pos) + "_right";
+    ASSERT_TRUE(m->data().landmarks.count(right)) << name;
+    const Eigen::RowVector3d l = v.row(index), r = v.row(m->landmark(right));
+    EXPECT_GT(l.x(), 0) << name << " is on the body's left (+X)";
+    EXPECT_NEAR(l.x(), -r.x(), 0.005) << name;
+    EXPECT_NEAR(l.y(), r.y(), 0.005) << name;
+    EXPECT_NEAR(l.z(), r.z(), 0.005) << name;
+    ++pairs;
+  }
+  EXPECT_GE(pairs, 10);
+}
+
+TEST_P(BuiltinModel, JointsAreInsideTheBodyAndOrdered) {
+  const auto m = model(GetParam());
+  const Vertices v = m->rest_vertices(Eigen::VectorXd::Zero(m->shape_count()));
+  const Eigen::MatrixX3d j = m->joints(v);
+  const Eigen::RowVector3d lo = v.colwise().minCoeff(), hi = v.colwise().maxCoeff();
+  for (int i = 0; i < m->joint_count(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GT(j(i, c), lo(c)) << m->data().joint_names[i];
+      EXPECT_LT(j(i, c), hi(c)) << m->data().joint_names[i];
+    }
+  auto y = [&](const char* name) {
+    const auto& names = m->data().joint_names;
+    return j(std::find(names.begin(), names.end(), name) - names.begin(), 1);
+  };
+  EXPECT_LT(y("left_ankle"), y("left_knee"));
+  EXPECT_LT(y("left_knee"), y("left_hip"));
+  EXPECT_LT(y("pelvis"), y("spine1"));
+  EXPECT_LT(y("spine3"), y("neck"));
+  EXPECT_LT(y("neck"), y("head"));
+}
+
+TEST_P(BuiltinModel, PresetRegressorsReproduceTheirInputs) {
+  // Table 1 of the paper: inputs are reproduced (0.00 cm; weight within a fraction of a kg).
+  const auto m = model(GetParam());
+  AvatarBuilder builder(m);
+  const bool male = GetParam() == Sex::Male;
+  AvatarRequest req;
+  req.measurements = measurements_from_edge({{"stature", male ? 178.0 : 164.0},
+                                             {"weight", male ? 84.0 : 66.0},
+                                             {"span", male ? 182.0 : 166.0},
+                                             {"crotch_height", male ? 85.0 : 78.0},
+                                             {"hip_breadth", male ? 34.5 : 35.5},
+                                             {"arm_length", male ? 60.0 : 55.0}});
+  for (const std::string preset : {"R2", "R4", "R5"}) {
+    req.regressor = preset;
+    const Avatar a = builder.build(req);
+    for (const auto& input : a.inputs) {
+      const double tol = input == "weight" ? 0.6 : 0.002;  // kg, m
+      EXPECT_NEAR(a.achieved.at(input), req.measurements.at(input), tol) << preset << " " << input;
+    }
+    EXPECT_NE(a.plausibility.overall, Verdict::Implausible) << preset;
+  }
+}
+
+TEST_P(BuiltinModel, BendingAnElbowMovesOnlyTheForearm) {
+  const auto m = model(GetParam());
+  const Vertices rest = m->rest_vertices(Eigen::VectorXd::Zero(m->shape_count()));
+  Pose p = zero_pose(*m);
+  p.row(18) << 0, -M_PI / 2, 0;  // left elbow: forearm swings forward
+  const Vertices posed = pose_vertices(*m, rest, p);
+  ASSERT_TRUE(posed.allFinite());
+  const Eigen::MatrixX3d joints = m->joints(rest);
+  const double elbow_x = joints(18, 0);
+  double max_move = 0, leg_move = 0;
+  for (Eigen::Index i = 0; i < rest.rows(); ++i) {
+    const double d = (posed.row(i) - rest.row(i)).norm();
+    max_move = std::max(max_move, d);
+    if (rest(i, 1) < joints(0, 1)) leg_move = std::max(leg_move, d);  // below the pelvis
+    if (rest(i, 0) < elbow_x - 0.12) EXPECT_LT(d, 1e-6) << "vertex " << i << " far from the elbow moved";
+  }
+  EXPECT_GT(max_move, 0.2);   // the hand swings round
+  EXPECT_LT(max_move, 0.8);   // bounded by the forearm + hand length × √2
+  EXPECT_LT(leg_move, 1e-9);
+}
+
+INSTANTIATE_TEST_SUITE_P(Sexes, BuiltinModel, ::testing::Values(Sex::Female, Sex::Male, Sex::Neutral),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
