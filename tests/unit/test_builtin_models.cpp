@@ -4,6 +4,12 @@
 
 #include <random>
 
+#ifdef CALIPER_HAVE_ASSIMP
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#endif
+
 #include "caliper/caliper.h"
 
 using namespace caliper;
@@ -150,6 +156,28 @@ TEST_P(BuiltinModel, BendingAnElbowMovesOnlyTheForearm) {
   EXPECT_LT(max_move, 0.8);   // bounded by the forearm + hand length × √2
   EXPECT_LT(leg_move, 1e-9);
 }
+
+#ifdef CALIPER_HAVE_ASSIMP
+TEST_P(BuiltinModel, GlbReadsBackInAssimpWithTheSameCounts) {
+  const auto m = model(GetParam());
+  const Vertices rest = m->rest_vertices(Eigen::VectorXd::Constant(m->shape_count(), 0.5));
+  const std::string bytes = write_glb(*m, rest);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_ValidateDataStructure, "glb");
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  ASSERT_EQ(scene->mNumMeshes, 1u);
+  const aiMesh* mesh = scene->mMeshes[0];
+  EXPECT_EQ(static_cast<int>(mesh->mNumVertices), m->vertex_count());
+  EXPECT_EQ(static_cast<int>(mesh->mNumFaces), m->face_count());
+  EXPECT_EQ(static_cast<int>(mesh->mNumBones), m->joint_count());
+  // Every vertex's weights sum to 1 across the bones.
+  std::vector<double> sums(mesh->mNumVertices, 0.0);
+  for (unsigned b = 0; b < mesh->mNumBones; ++b)
+    for (unsigned w = 0; w < mesh->mBones[b]->mNumWeights; ++w)
+      sums[mesh->mBones[b]->mWeights[w].mVertexId] += mesh->mBones[b]->mWeights[w].mWeight;
+  for (double s : sums) ASSERT_NEAR(s, 1.0, 1e-5);
+}
+#endif
 
 INSTANTIATE_TEST_SUITE_P(Sexes, BuiltinModel, ::testing::Values(Sex::Female, Sex::Male, Sex::Neutral),
                          [](const auto& info) { return std::string(to_string(info.param)); });
