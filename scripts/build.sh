@@ -8,3 +8,5 @@ if [ ! -f build/CMakeCache.txt ]; then
   cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "$@"
 fi
 cmake --build build -j "$(nproc)"
+# The desktop tool's page: web/src plus three.js from npm, copied into web/dist (served by caliper serve).
+if [ -d web/node_modules ]; then node web/build.mjs; fi

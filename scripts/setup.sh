@@ -14,3 +14,7 @@ build/bin/caliper render --sex female --height 165 --weight 60 --arm-span 168 --
   -o out/avatar.png
 echo
 echo "[caliper] done: out/avatar.glb (rigged glTF 2.0: Blender, Unity, three.js), out/avatar-report.json, out/avatar.png"
+if [ -n "${CI:-}" ] || [ "${CALIPER_NO_SERVE:-0}" = "1" ]; then exit 0; fi
+echo
+echo "[caliper] starting the desktop tool: open http://127.0.0.1:8080/ in a browser (Ctrl+C stops it)"
+exec build/bin/caliper serve

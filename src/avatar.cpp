@@ -101,6 +101,7 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   avatar.regressor = key;
   avatar.inputs = inputs;
   avatar.targets = request.measurements;
+  avatar.model_maps = maps_;
   if (request.apply_model_maps) maps_.apply(avatar.targets);
   avatar.beta = r.predict(*model_, avatar.targets);
   avatar.rest_vertices = model_->rest_vertices(avatar.beta);

@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
   caliper::cli::register_model(app);
   caliper::cli::register_isak(app);
   caliper::cli::register_map(app);
+  caliper::cli::register_eval(app);
+  caliper::cli::register_batch(app);
+  caliper::cli::register_serve(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

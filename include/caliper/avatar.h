@@ -33,6 +33,7 @@ struct Avatar {
   Plausibility plausibility;
   std::map<std::string, double> requested;     // SI, as given
   std::map<std::string, double> targets;       // SI, after real → virtual maps (what was regressed on)
+  RealToVirtual model_maps;                    // the model's maps (identity where it has none)
   std::map<std::string, double> achieved;      // SI, every measurement the model knows (or measure_only)
 };
 

@@ -8,7 +8,9 @@
 namespace caliper {
 
 namespace {
-double round_to(double v, double step) { return std::round(v / step) * step; }
+// Dividing by the inverse step gives the double nearest the decimal, so JSON shows "57.044", not
+// "57.044000000000004".
+double round_to(double v, double step) { return std::round(v / step) / std::round(1.0 / step); }
 }  // namespace
 
 std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int indent) {
@@ -40,6 +42,10 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
     auto target = avatar.targets.find(name);
     const bool mapped = target != avatar.targets.end() && req != avatar.requested.end() && target->second != req->second;
     if (mapped) m["virtual_target" + suffix] = round_to(target->second * scale, 1e-3);
+    // A measurement the model maps real → virtual (e.g. arm length, taken hanging on a person,
+    // in a T-pose on the avatar) is also given as the real measurement it corresponds to.
+    if (const LinearMap& lm = avatar.model_maps.map(name); !lm.is_identity())
+      m["real_equivalent" + suffix] = round_to(lm.invert(achieved) * scale, 1e-3);
     if (req != avatar.requested.end())
       m["difference" + suffix] = round_to((achieved - (mapped ? target->second : req->second)) * scale, 1e-3);
     ms[name] = m;

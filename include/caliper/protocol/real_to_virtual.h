@@ -15,6 +15,8 @@ struct LinearMap {
   int pairs = 0;        // how many pairs it was fitted on (0 = identity / hand-set)
   double rmse = 0.0;    // metres, fit residual
   double apply(double real) const { return slope * real + offset; }
+  double invert(double virtual_value) const { return (virtual_value - offset) / slope; }
+  bool is_identity() const { return slope == 1.0 && offset == 0.0; }
 };
 
 class RealToVirtual {

@@ -1,0 +1,77 @@
+// `caliper serve`: the desktop tool (paper §4.3, §5) as a local web app. Serves the JSON API
+// (docs/api.md) and the front end built into web/dist (docs/desktop-tool.md) until Ctrl+C.
+#include <atomic>
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
+#include <pthread.h>
+#include <thread>
+
+#include "common.h"
+#include "server.h"
+
+namespace caliper::cli {
+
+void register_serve(CLI::App& app) {
+  auto opts = std::make_shared<server::ServerOptions>();
+  opts->web_root = CALIPER_WEB_ROOT;
+  auto quiet = std::make_shared<bool>(false);
+  auto no_warm_up = std::make_shared<bool>(false);
+  CLI::App* cmd = app.add_subcommand("serve", "Run the desktop tool: a local web app to build, inspect and export avatars");
+  cmd->add_option("--host", opts->host, "address to listen on (127.0.0.1 keeps it on this machine)")->capture_default_str();
+  cmd->add_option("--port", opts->port, "TCP port; 0 picks a free one (printed)")->capture_default_str();
+  cmd->add_option("--web-root", opts->web_root, "folder of the built front end (`node web/build.mjs` writes web/dist)")
+      ->capture_default_str();
+  cmd->add_option("--model", opts->api.default_model, "default body model (a family in the models folder)")->capture_default_str();
+  cmd->add_option("--threads", opts->threads, "worker threads serving requests (1–256)")->capture_default_str();
+  cmd->add_flag("--no-warm-up", *no_warm_up, "do not train the default model's regressors before listening");
+  cmd->add_flag("-q,--quiet", *quiet, "do not log requests");
+  cmd->callback([=] {
+    if (opts->threads < 1 || opts->threads > 256)
+      throw Error(ErrorKind::OutOfRange, "--threads must be in [1, 256]", "--threads");
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(std::filesystem::path(opts->web_root) / "index.html", ec))
+      std::cerr << "caliper serve: warning: no index.html in " << opts->web_root
+                << " — build the front end with `node web/build.mjs` (the API still works)\n";
+    if (!*quiet) {
+      auto log_mutex = std::make_shared<std::mutex>();
+      opts->log = [log_mutex](const std::string& line) {
+        std::lock_guard<std::mutex> lock(*log_mutex);
+        std::cerr << line << "\n";
+      };
+    }
+    // Signals go to one waiting thread, which stops the server cleanly (no work in a handler).
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+    server::Server srv(*opts);
+    const int port = srv.bind();
+    if (!*no_warm_up) {
+      std::cerr << "caliper serve: preparing " << opts->api.default_model << " (training the R2–R6 regressors)…\n";
+      std::string problems;
+      srv.api().warm_up(opts->api.default_model, &problems);
+      if (!problems.empty()) std::cerr << "caliper serve: warning: " << problems;
+    }
+    std::atomic<bool> signalled{false};
+    std::thread waiter([&srv, &signalled, signals] {
+      int sig = 0;
+      sigwait(&signals, &sig);
+      signalled = true;
+      srv.stop();
+    });
+    const std::string shown_host = opts->host == "0.0.0.0" ? "127.0.0.1" : opts->host;
+    std::cout << "Caliper desktop tool: open http://" << shown_host << ":" << port << "/ in a browser (Ctrl+C stops)"
+              << std::endl;
+    srv.run();
+    // run() also returns if listening fails; wake the waiter so it can be joined.
+    if (!signalled) pthread_kill(waiter.native_handle(), SIGTERM);
+    waiter.join();
+    std::cout << "caliper serve: stopped" << std::endl;
+  });
+}
+
+}  // namespace caliper::cli

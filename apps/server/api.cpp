@@ -1,0 +1,687 @@
+// The desktop tool's JSON API (docs/api.md): the paper's desktop application (§4.3, §5) as a
+// handful of endpoints. A client of the library's public API only; measurements cross this edge
+// in centimetres and kilograms, shapes and meshes come back as JSON and base64 arrays.
+#include "api.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "caliper/caliper.h"
+
+namespace caliper::server {
+
+namespace {
+
+using nlohmann::ordered_json;
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Small helpers.
+
+std::string base64(const void* data, size_t size) {
+  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* p = static_cast<const unsigned char*>(data);
+  std::string out;
+  out.reserve((size + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 2 < size; i += 3) {
+    const std::uint32_t v = (std::uint32_t(p[i]) << 16) | (std::uint32_t(p[i + 1]) << 8) | p[i + 2];
+    out += alphabet[(v >> 18) & 63];
+    out += alphabet[(v >> 12) & 63];
+    out += alphabet[(v >> 6) & 63];
+    out += alphabet[v & 63];
+  }
+  if (i < size) {
+    std::uint32_t v = std::uint32_t(p[i]) << 16;
+    if (i + 1 < size) v |= std::uint32_t(p[i + 1]) << 8;
+    out += alphabet[(v >> 18) & 63];
+    out += alphabet[(v >> 12) & 63];
+    out += i + 1 < size ? alphabet[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+std::string lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r\n\"");
+  if (a == std::string::npos) return {};
+  const size_t b = s.find_last_not_of(" \t\r\n\"");
+  return s.substr(a, b - a + 1);
+}
+
+// Rounds to a decimal step (0.1, 1e-4…) so that the JSON shows 178.1, not 178.10000000000002:
+// dividing by the integer 1/step gives the double nearest the decimal, multiplying by step not.
+double round_to(double v, double step) {
+  const double inverse = std::round(1.0 / step);
+  return std::round(v * inverse) / inverse;
+}
+
+ApiResponse json_response(const ordered_json& j, int status = 200) {
+  ApiResponse r;
+  r.status = status;
+  r.body = j.dump();
+  return r;
+}
+
+// Thrown inside handlers for request problems that are not the library's (unknown route, wrong
+// JSON type); turned into the same error body as a caliper::Error.
+struct RequestError {
+  int status;
+  std::string message;
+  std::string field;
+  std::string kind;
+};
+
+[[noreturn]] void bad(const std::string& message, const std::string& field, int status = 400,
+                      const std::string& kind = "invalid_argument") {
+  throw RequestError{status, message, field, kind};
+}
+
+// ---------------------------------------------------------------------------------------------
+// What the page needs beyond the library's catalogue: the paper's input hierarchy (§4.3, §5),
+// slider ranges and starting values. Slider ranges cover ANSUR II (development subsets, both
+// sexes: stature 143.5–198.0 cm, weight 35.8–144.2 kg, span 132.3–212.1 cm, crotch height
+// 61.0–102.1 cm, hip breadth 27.7–47.3 cm, arm length 41.8–71.3 cm) rounded outwards; typed
+// values may use the catalogue's whole accepted range. Starting values are the subsets' means.
+struct InputSpec {
+  const char* name;
+  int level;  // 1: height & weight; 2: arm span & inseam; 3: hip width & arm length
+  double slider_min, slider_max, step;
+  double female, male;
+};
+const std::vector<InputSpec>& input_specs() {
+  static const std::vector<InputSpec> specs = {
+      {"stature", 1, 140, 205, 0.1, 162.9, 175.6},
+      {"weight", 1, 35, 150, 0.1, 67.8, 85.5},
+      {"span", 2, 130, 215, 0.1, 166.0, 181.3},
+      {"crotch_height", 2, 60, 105, 0.1, 78.2, 84.6},
+      {"hip_breadth", 3, 26, 50, 0.1, 35.4, 34.6},
+      {"arm_length", 3, 40, 75, 0.1, 55.2, 60.3},
+  };
+  return specs;
+}
+
+// Measurements shown in the table as predictions when they are not inputs.
+const std::vector<std::string>& highlighted_predictions() {
+  static const std::vector<std::string> names = {"chest_circumference", "waist_circumference",
+                                                 "buttock_circumference", "thigh_circumference",
+                                                 "neck_circumference", "biacromial_breadth"};
+  return names;
+}
+
+ordered_json range_json(const MeasurementInfo& info) {
+  return {{"min", info.min_edge}, {"max", info.max_edge}, {"unit", edge_unit(info)}};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Request parsing.
+
+struct BodyRequest {
+  std::string model;
+  Sex sex = Sex::Female;
+  std::string regressor = "auto";
+  std::map<std::string, double> edge;  // canonical name → cm / kg
+  bool include_mesh = true;
+};
+
+ordered_json parse_json_body(const std::string& body) {
+  if (body.empty()) bad("the request body is empty; send a JSON object", "body");
+  ordered_json j;
+  try {
+    j = ordered_json::parse(body);
+  } catch (const nlohmann::json::parse_error& e) {
+    bad(std::string("the request body is not valid JSON: ") + e.what(), "body");
+  }
+  if (!j.is_object()) bad("the request body must be a JSON object", "body");
+  return j;
+}
+
+std::string string_field(const ordered_json& j, const char* key, const std::string& fallback) {
+  if (!j.contains(key) || j[key].is_null()) return fallback;
+  if (!j[key].is_string()) bad(std::string(key) + " must be a string", key);
+  return j[key].get<std::string>();
+}
+
+// Measurement values at the edge (cm, kg), keyed by canonical name, each checked against the
+// catalogue's accepted range. Null values are skipped (an empty field on the page).
+std::map<std::string, double> parse_measurements(const ordered_json& m) {
+  if (!m.is_object()) bad("measurements must be an object of name: value (cm or kg)", "measurements");
+  std::map<std::string, double> edge;
+  for (const auto& [name, value] : m.items()) {
+    if (value.is_null()) continue;
+    const MeasurementInfo* info = find_measurement_info(name);
+    if (!info) bad("unknown measurement '" + name + "' (GET /api/measurements lists them)", name);
+    if (!value.is_number())
+      throw Error(ErrorKind::InvalidArgument, info->name + " must be a number in " + edge_unit(*info), info->name);
+    if (edge.count(info->name))
+      bad(info->name + " was given twice (as '" + name + "' and another alias)", info->name);
+    const double v = value.get<double>();
+    edge_to_si(*info, v);  // throws naming the field and the accepted range
+    edge[info->name] = v;
+  }
+  return edge;
+}
+
+BodyRequest parse_body_request(const std::string& body, const std::string& default_model, bool allow_mesh_flag) {
+  const ordered_json j = parse_json_body(body);
+  static const std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "mesh"};
+  for (const auto& [key, value] : j.items())
+    if (std::find(known.begin(), known.end(), key) == known.end() || (key == "mesh" && !allow_mesh_flag))
+      bad("unknown field '" + key + "' (expected sex, model, regressor, measurements)", key);
+  BodyRequest r;
+  r.sex = parse_sex(string_field(j, "sex", "female"));
+  r.model = string_field(j, "model", default_model);
+  r.regressor = string_field(j, "regressor", "auto");
+  if (r.regressor.empty()) r.regressor = "auto";
+  if (!j.contains("measurements")) bad("measurements is required, e.g. {\"stature\": 165, \"weight\": 60}", "measurements");
+  r.edge = parse_measurements(j["measurements"]);
+  if (j.contains("mesh")) {
+    if (!j["mesh"].is_boolean()) bad("mesh must be true or false", "mesh");
+    r.include_mesh = j["mesh"].get<bool>();
+  }
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Measurement sets (import/export, JSON and CSV; docs/api.md "Measurement sets").
+
+struct MeasurementSet {
+  std::string sex;    // empty when the file does not say
+  std::string model;  // empty when the file does not say
+  std::map<std::string, double> edge;
+  std::vector<std::string> warnings;
+};
+
+// Converts a value in `unit` to the edge unit of `info` (cm or kg).
+double to_edge_unit(const MeasurementInfo& info, double value, const std::string& unit_text, const std::string& where) {
+  const std::string unit = lower(trim(unit_text));
+  const bool kg = info.unit == Unit::Kilogram;
+  if (unit.empty()) return value;
+  if (kg) {
+    if (unit == "kg") return value;
+    if (unit == "g") return value / 1000.0;
+    if (unit == "lb" || unit == "lbs") return value * 0.45359237;
+  } else {
+    if (unit == "cm") return value;
+    if (unit == "mm") return value / 10.0;
+    if (unit == "m") return value * 100.0;
+    if (unit == "in" || unit == "inch") return value * 2.54;
+  }
+  bad(where + ": unit '" + unit_text + "' does not fit " + info.name + " (use " + edge_unit(info) + ")", info.name);
+}
+
+void add_to_set(MeasurementSet& set, const std::string& name, double value, const std::string& unit, const std::string& where) {
+  const MeasurementInfo* info = find_measurement_info(name);
+  if (!info) bad(where + ": unknown measurement '" + name + "'", name);
+  if (set.edge.count(info->name)) bad(where + ": " + info->name + " is given twice", info->name);
+  const double v = to_edge_unit(*info, value, unit, where);
+  edge_to_si(*info, v);  // range check, naming the field
+  set.edge[info->name] = round_to(v, 1e-4);
+}
+
+MeasurementSet parse_set_json(const std::string& text) {
+  ordered_json j;
+  try {
+    j = ordered_json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    bad(std::string("the measurement set is not valid JSON: ") + e.what(), "body");
+  }
+  if (!j.is_object()) bad("a JSON measurement set must be an object", "body");
+  MeasurementSet set;
+  if (j.contains("sex") && j["sex"].is_string()) set.sex = to_string(parse_sex(j["sex"].get<std::string>()));
+  if (j.contains("model") && j["model"].is_string()) set.model = j["model"].get<std::string>();
+  // Either {"measurements": {...}} (ours, and Caliper reports) or a flat {name: value} object.
+  const ordered_json& m = j.contains("measurements") ? j["measurements"] : j;
+  if (!m.is_object()) bad("measurements must be an object", "measurements");
+  for (const auto& [name, value] : m.items()) {
+    if (!j.contains("measurements") && (name == "sex" || name == "model" || name == "format" || name == "version" || name == "units"))
+      continue;
+    if (value.is_number()) {
+      add_to_set(set, name, value.get<double>(), "", "measurements." + name);
+    } else if (value.is_object()) {
+      // A Caliper report's entry: take what was requested; achieved-only entries were not inputs.
+      for (const char* key : {"requested_cm", "requested_kg"})
+        if (value.contains(key) && value[key].is_number()) add_to_set(set, name, value[key].get<double>(), "", "measurements." + name);
+      if (!value.contains("requested_cm") && !value.contains("requested_kg") && !value.contains("achieved_cm") &&
+          !value.contains("achieved_kg"))
+        bad("measurements." + name + " must be a number (cm or kg)", name);
+    } else if (!value.is_null()) {
+      bad("measurements." + name + " must be a number (cm or kg)", name);
+    }
+  }
+  if (set.edge.empty()) bad("the measurement set has no measurements", "measurements");
+  return set;
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  const char sep = line.find(',') != std::string::npos ? ',' : (line.find(';') != std::string::npos ? ';' : '\t');
+  std::vector<std::string> cells;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, sep)) cells.push_back(trim(cell));
+  if (!line.empty() && line.back() == sep) cells.push_back({});
+  return cells;
+}
+
+bool parse_number(const std::string& text, double& out) {
+  if (text.empty()) return false;
+  try {
+    size_t used = 0;
+    out = std::stod(text, &used);
+    return used == text.size();
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+// CSV: rows "measurement,value[,unit]" (',' ';' or tab), an optional header row, '#' comments,
+// and an optional "sex,female" row. Values without a unit are in cm or kg.
+MeasurementSet parse_set_csv(const std::string& text) {
+  MeasurementSet set;
+  std::stringstream ss(text);
+  std::string line;
+  int line_no = 0;
+  while (std::getline(ss, line)) {
+    ++line_no;
+    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line = line.substr(3);  // UTF-8 BOM
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#') continue;
+    const std::vector<std::string> cells = split_csv_line(t);
+    const std::string where = "line " + std::to_string(line_no);
+    const std::string first = lower(cells[0]);
+    if (first == "measurement" || first == "name") continue;  // header
+    if (first == "sex") {
+      if (cells.size() < 2) bad(where + ": sex needs a value", "sex");
+      set.sex = to_string(parse_sex(lower(cells[1])));
+      continue;
+    }
+    if (first == "model") {
+      if (cells.size() >= 2) set.model = cells[1];
+      continue;
+    }
+    if (cells.size() < 2) bad(where + ": expected measurement,value[,unit]", "line " + std::to_string(line_no));
+    double v = 0;
+    if (!parse_number(cells[1], v)) {
+      const MeasurementInfo* info = find_measurement_info(cells[0]);
+      bad(where + ": the value of " + cells[0] + " is not a number ('" + cells[1] + "')", info ? info->name : cells[0]);
+    }
+    add_to_set(set, cells[0], v, cells.size() >= 3 ? cells[2] : "", where);
+  }
+  if (set.edge.empty()) bad("the measurement set has no measurements", "body");
+  return set;
+}
+
+ordered_json set_json(const MeasurementSet& set) {
+  ordered_json j;
+  j["format"] = "caliper-measurements";
+  j["version"] = 1;
+  j["sex"] = set.sex.empty() ? ordered_json(nullptr) : ordered_json(set.sex);
+  j["model"] = set.model.empty() ? ordered_json(nullptr) : ordered_json(set.model);
+  j["units"] = "lengths in cm, weight in kg";
+  ordered_json m = ordered_json::object();
+  // Catalogue order (the paper's inputs first) reads better than alphabetical.
+  for (const auto& info : measurement_catalogue()) {
+    auto it = set.edge.find(info.name);
+    if (it != set.edge.end()) m[info.name] = it->second;
+  }
+  j["measurements"] = m;
+  if (!set.warnings.empty()) j["warnings"] = set.warnings;
+  return j;
+}
+
+std::string format_value(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << round_to(v, 1e-4);
+  return os.str();
+}
+
+std::string set_csv(const MeasurementSet& set) {
+  std::string out = "measurement,value,unit\n";
+  if (!set.sex.empty()) out += "sex," + set.sex + ",\n";
+  for (const auto& info : measurement_catalogue()) {
+    auto it = set.edge.find(info.name);
+    if (it != set.edge.end()) out += info.name + "," + format_value(it->second) + "," + edge_unit(info) + "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
+ApiResponse error_response(int status, const std::string& message, const std::string& field, const std::string& kind) {
+  ordered_json e;
+  e["message"] = message;
+  e["field"] = field.empty() ? ordered_json(nullptr) : ordered_json(field);
+  const MeasurementInfo* info = field.empty() ? nullptr : find_measurement_info(field);
+  e["accepted_range"] = info ? range_json(*info) : ordered_json(nullptr);
+  e["kind"] = kind;
+  return json_response({{"error", e}}, status);
+}
+
+// ---------------------------------------------------------------------------------------------
+
+struct Api::Impl {
+  ApiOptions options;
+
+  struct Entry {
+    std::once_flag once;
+    std::shared_ptr<const BodyModel> model;
+    std::unique_ptr<AvatarBuilder> builder;
+    std::string topology;  // the JSON body of /api/topology, built once
+  };
+  mutable std::mutex mutex;
+  mutable std::map<std::string, std::shared_ptr<Entry>> entries;
+
+  std::string dir() const { return options.models_dir.empty() ? caliper::models_dir() : options.models_dir; }
+
+  // Model families in the models folder: "mannequin-female.npz" … → "mannequin" with its sexes;
+  // any other .npz file is a model of its own, usable with every sex (the sex then picks the
+  // weight-from-volume coefficients). Only these names are accepted, never paths.
+  std::map<std::string, std::vector<std::string>> families() const {
+    std::map<std::string, std::vector<std::string>> out;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir(), ec)) {
+      if (e.path().extension() != ".npz") continue;
+      const std::string stem = e.path().stem().string();
+      bool family = false;
+      for (const char* sex : {"female", "male", "neutral"}) {
+        const std::string suffix = std::string("-") + sex;
+        if (stem.size() > suffix.size() && stem.compare(stem.size() - suffix.size(), suffix.size(), suffix) == 0) {
+          out[stem.substr(0, stem.size() - suffix.size())].push_back(sex);
+          family = true;
+        }
+      }
+      if (!family) out[stem] = {"female", "male", "neutral"};
+    }
+    for (auto& [name, sexes] : out) {
+      // female, male, neutral order whatever the directory order was.
+      std::vector<std::string> ordered;
+      for (const char* s : {"female", "male", "neutral"})
+        if (std::find(sexes.begin(), sexes.end(), s) != sexes.end()) ordered.push_back(s);
+      sexes = ordered;
+    }
+    return out;
+  }
+
+  std::shared_ptr<Entry> entry(const std::string& model, Sex sex) const {
+    const std::string sex_text = to_string(sex);
+    const auto fams = families();
+    auto fam = fams.find(model);
+    if (fam == fams.end()) {
+      std::string names;
+      for (const auto& [n, s] : fams) names += (names.empty() ? "" : ", ") + n;
+      bad("unknown model '" + model + "' (available: " + (names.empty() ? "none — see docs/desktop-tool.md" : names) + ")", "model");
+    }
+    if (std::find(fam->second.begin(), fam->second.end(), sex_text) == fam->second.end())
+      bad("model '" + model + "' has no " + sex_text + " variant", "sex");
+    std::shared_ptr<Entry> e;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      auto& slot = entries[model + "/" + sex_text];
+      if (!slot) slot = std::make_shared<Entry>();
+      e = slot;
+    }
+    // Loaded once per (model, sex); a failed load throws and the next request tries again.
+    std::call_once(e->once, [&] {
+      const fs::path family_file = fs::path(dir()) / (model + "-" + sex_text + ".npz");
+      const fs::path single_file = fs::path(dir()) / (model + ".npz");
+      const std::string path = fs::exists(family_file) ? family_file.string() : single_file.string();
+      auto m = std::make_shared<const BodyModel>(load_model(path, sex));
+      e->builder = std::make_unique<AvatarBuilder>(m);
+      e->topology = topology_json(*m, model, sex_text);
+      e->model = std::move(m);
+    });
+    return e;
+  }
+
+  static std::string topology_json(const BodyModel& m, const std::string& family, const std::string& sex) {
+    std::vector<std::uint32_t> faces(static_cast<size_t>(m.face_count()) * 3);
+    for (int f = 0; f < m.face_count(); ++f)
+      for (int c = 0; c < 3; ++c) faces[size_t(f) * 3 + c] = static_cast<std::uint32_t>(m.faces()(f, c));
+    ordered_json j;
+    j["model"] = family;
+    j["sex"] = sex;
+    j["name"] = m.name();
+    j["vertex_count"] = m.vertex_count();
+    j["face_count"] = m.face_count();
+    j["faces"] = base64(faces.data(), faces.size() * sizeof(std::uint32_t));
+    j["encoding"] = "uint32 little-endian, base64, 3 per face, counter-clockwise seen from outside";
+    j["joint_names"] = m.data().joint_names;
+    j["parents"] = m.data().parents;
+    ordered_json meta = ordered_json::object();
+    for (const auto& [k, v] : m.data().metadata) meta[k] = v;
+    j["metadata"] = meta;
+    return j.dump();
+  }
+
+  struct Built {
+    std::shared_ptr<Entry> entry;
+    Avatar avatar;
+    double build_ms = 0;
+  };
+  Built build(const BodyRequest& r) const {
+    Built b;
+    b.entry = entry(r.model, r.sex);
+    const auto t0 = std::chrono::steady_clock::now();
+    AvatarRequest request;
+    request.measurements = measurements_from_edge(r.edge);
+    request.regressor = r.regressor;
+    b.avatar = b.entry->builder->build(request);
+    b.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return b;
+  }
+
+  // ----- endpoints -----
+
+  ApiResponse models() const {
+    ordered_json list = ordered_json::array();
+    for (const auto& [name, sexes] : families())
+      list.push_back({{"name", name}, {"sexes", sexes}, {"default", name == options.default_model}});
+    ordered_json regressors = ordered_json::array();
+    for (const auto& p : preset_names()) regressors.push_back({{"name", p}, {"inputs", preset_inputs(p)}});
+    regressors.push_back({{"name", "auto"}, {"inputs", nullptr},
+                          {"description", "the largest preset whose inputs are all given"}});
+    return json_response({{"default_model", options.default_model}, {"models", list}, {"regressors", regressors}});
+  }
+
+  ApiResponse measurements() const {
+    ordered_json list = ordered_json::array();
+    for (const auto& info : measurement_catalogue()) {
+      ordered_json m;
+      m["name"] = info.name;
+      m["label"] = info.label;
+      m["unit"] = edge_unit(info);
+      m["accepted_range"] = range_json(info);
+      m["aliases"] = info.aliases;
+      m["ansur_column"] = info.ansur_column.empty() ? ordered_json(nullptr) : ordered_json(info.ansur_column);
+      m["paper_candidate"] = info.paper_13;
+      m["input"] = nullptr;
+      for (const auto& s : input_specs())
+        if (info.name == s.name)
+          m["input"] = {{"level", s.level}, {"slider", {{"min", s.slider_min}, {"max", s.slider_max}, {"step", s.step}}},
+                        {"default", {{"female", s.female}, {"male", s.male}, {"neutral", round_to((s.female + s.male) / 2, 0.1)}}}};
+      m["highlight"] = std::find(highlighted_predictions().begin(), highlighted_predictions().end(), info.name) !=
+                       highlighted_predictions().end();
+      list.push_back(m);
+    }
+    ordered_json hierarchy = ordered_json::array({ordered_json::array({"stature", "weight"}),
+                                                  ordered_json::array({"span", "crotch_height"}),
+                                                  ordered_json::array({"hip_breadth", "arm_length"})});
+    return json_response({{"measurements", list}, {"hierarchy", hierarchy}});
+  }
+
+  ApiResponse topology(const ApiRequest& req) const {
+    auto q = [&](const char* key, const std::string& fallback) {
+      auto it = req.query.find(key);
+      return it == req.query.end() || it->second.empty() ? fallback : it->second;
+    };
+    const Sex sex = parse_sex(q("sex", "female"));
+    auto e = entry(q("model", options.default_model), sex);
+    ApiResponse r;
+    r.body = e->topology;
+    return r;
+  }
+
+  ApiResponse avatar(const ApiRequest& req) const {
+    const auto t0 = std::chrono::steady_clock::now();
+    const BodyRequest r = parse_body_request(req.body, options.default_model, true);
+    const Built b = build(r);
+    ordered_json j;
+    j["report"] = ordered_json::parse(avatar_report_json(b.entry->builder->model(), b.avatar, -1));
+    j["report"]["model_family"] = r.model;
+    if (r.include_mesh) {
+      const Vertices& v = b.avatar.rest_vertices;
+      std::vector<float> positions(static_cast<size_t>(v.rows()) * 3);
+      for (Eigen::Index i = 0; i < v.rows(); ++i)
+        for (int c = 0; c < 3; ++c) positions[size_t(i) * 3 + c] = static_cast<float>(v(i, c));
+      j["mesh"] = {{"vertex_count", v.rows()},
+                   {"positions", base64(positions.data(), positions.size() * sizeof(float))},
+                   {"encoding", "float32 little-endian, base64, x y z per vertex, metres, +Y up, facing +Z"},
+                   {"topology", "/api/topology?model=" + r.model + "&sex=" + to_string(r.sex)}};
+    }
+    j["timing_ms"] = {{"build", round_to(b.build_ms, 0.01)},
+                      {"total", round_to(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), 0.01)}};
+    return json_response(j);
+  }
+
+  ApiResponse export_file(const ApiRequest& req, const std::string& kind) const {
+    const BodyRequest r = parse_body_request(req.body, options.default_model, false);
+    const Built b = build(r);
+    const BodyModel& m = b.entry->builder->model();
+    ApiResponse out;
+    const std::string stem = "caliper-" + m.name() + "-" + b.avatar.regressor;
+    if (kind == "glb") {
+      out.content_type = "model/gltf-binary";
+      out.body = write_glb(m, b.avatar.rest_vertices);
+      out.download_name = stem + ".glb";
+    } else if (kind == "obj") {
+      out.content_type = "text/plain; charset=utf-8";
+      out.body = write_obj(b.avatar.rest_vertices, m.faces(),
+                           "Caliper avatar, model " + m.name() + ", regressor " + b.avatar.regressor + ", metres, +Y up, facing +Z");
+      out.download_name = stem + ".obj";
+    } else {
+      out.body = avatar_report_json(m, b.avatar);
+      out.download_name = stem + "-report.json";
+    }
+    return out;
+  }
+
+  ApiResponse import_set(const ApiRequest& req) const {
+    const std::string t = trim(req.body);
+    if (t.empty()) bad("the measurement set is empty", "body");
+    const bool json = lower(req.content_type).find("json") != std::string::npos || t[0] == '{';
+    MeasurementSet set = json ? parse_set_json(req.body) : parse_set_csv(req.body);
+    return json_response(set_json(set));
+  }
+
+  ApiResponse export_set(const ApiRequest& req) const {
+    auto it = req.query.find("format");
+    const std::string format = it == req.query.end() ? "json" : lower(it->second);
+    if (format != "json" && format != "csv") bad("format must be json or csv", "format");
+    const ordered_json j = parse_json_body(req.body);
+    for (const auto& [key, value] : j.items())
+      if (key != "sex" && key != "model" && key != "measurements" && key != "regressor")
+        bad("unknown field '" + key + "' (expected sex, model, measurements)", key);
+    MeasurementSet set;
+    if (j.contains("sex") && !j["sex"].is_null()) set.sex = to_string(parse_sex(string_field(j, "sex", "female")));
+    set.model = string_field(j, "model", "");
+    if (!j.contains("measurements")) bad("measurements is required", "measurements");
+    set.edge = parse_measurements(j["measurements"]);
+    ApiResponse out;
+    if (format == "csv") {
+      out.content_type = "text/csv; charset=utf-8";
+      out.body = set_csv(set);
+      out.download_name = "caliper-measurements.csv";
+    } else {
+      out.body = set_json(set).dump(2) + "\n";
+      out.download_name = "caliper-measurements.json";
+    }
+    return out;
+  }
+
+  ApiResponse route(const ApiRequest& req) const {
+    struct Route {
+      const char* method;
+      const char* path;
+    };
+    auto is = [&](const char* method, const char* path) { return req.method == method && req.path == path; };
+    if (is("GET", "/api/health")) return json_response({{"status", "ok"}});
+    if (is("GET", "/api/models")) return models();
+    if (is("GET", "/api/measurements")) return measurements();
+    if (is("GET", "/api/topology")) return topology(req);
+    if (is("POST", "/api/avatar")) return avatar(req);
+    if (is("POST", "/api/export/glb")) return export_file(req, "glb");
+    if (is("POST", "/api/export/obj")) return export_file(req, "obj");
+    if (is("POST", "/api/export/report")) return export_file(req, "report");
+    if (is("POST", "/api/measurement-set/import")) return import_set(req);
+    if (is("POST", "/api/measurement-set/export")) return export_set(req);
+    static const std::vector<Route> routes = {
+        {"GET", "/api/health"}, {"GET", "/api/models"}, {"GET", "/api/measurements"}, {"GET", "/api/topology"},
+        {"POST", "/api/avatar"}, {"POST", "/api/export/glb"}, {"POST", "/api/export/obj"}, {"POST", "/api/export/report"},
+        {"POST", "/api/measurement-set/import"}, {"POST", "/api/measurement-set/export"}};
+    for (const auto& rt : routes)
+      if (req.path == rt.path)
+        bad(req.method + " is not allowed on " + req.path + " (use " + rt.method + ")", "method", 405, "method_not_allowed");
+    bad("no such endpoint: " + req.path + " (see docs/api.md)", "path", 404, "not_found");
+  }
+};
+
+Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) { impl_->options = std::move(options); }
+Api::~Api() = default;
+
+ApiResponse Api::handle(const ApiRequest& request) const {
+  try {
+    return impl_->route(request);
+  } catch (const RequestError& e) {
+    return error_response(e.status, e.message, e.field, e.kind);
+  } catch (const Error& e) {
+    // Bad values are the client's (400); a valid request the model cannot serve is 422; a model
+    // file that cannot be read or parsed is the server's problem (500).
+    switch (e.kind()) {
+      case ErrorKind::InvalidArgument: return error_response(400, e.what(), e.field(), "invalid_argument");
+      case ErrorKind::OutOfRange: return error_response(400, e.what(), e.field(), "out_of_range");
+      case ErrorKind::Unsupported: return error_response(422, e.what(), e.field(), "unsupported");
+      case ErrorKind::Format: return error_response(500, e.what(), e.field(), "model_format");
+      case ErrorKind::Io: return error_response(500, e.what(), e.field(), "model_io");
+    }
+    return error_response(500, e.what(), e.field(), "internal");
+  } catch (const std::exception& e) {
+    return error_response(500, std::string("internal error: ") + e.what(), {}, "internal");
+  }
+}
+
+std::vector<std::string> Api::warm_up(const std::string& model, std::string* problems) const {
+  std::vector<std::string> ready;
+  auto fams = impl_->families();
+  auto it = fams.find(model);
+  if (it == fams.end()) {
+    if (problems) *problems += "model '" + model + "' is not in " + impl_->dir() + "\n";
+    return ready;
+  }
+  for (const auto& sex_text : it->second) {
+    try {
+      auto e = impl_->entry(model, parse_sex(sex_text));
+      for (const auto& p : preset_names()) e->builder->regressor(p, preset_inputs(p));
+      ready.push_back(sex_text);
+    } catch (const Error& err) {
+      if (problems) *problems += model + " (" + sex_text + "): " + err.what() + "\n";
+    } catch (const RequestError& err) {
+      if (problems) *problems += model + " (" + sex_text + "): " + err.message + "\n";
+    }
+  }
+  return ready;
+}
+
+}  // namespace caliper::server

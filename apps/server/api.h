@@ -1,0 +1,58 @@
+// The desktop tool's JSON API (docs/api.md), independent of the HTTP transport: a request goes
+// in as method, path, query and body; a response comes out as status, content type and bytes.
+// Kept free of httplib and Eigen so either side can be tested and replaced on its own.
+#pragma once
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace caliper::server {
+
+struct ApiRequest {
+  std::string method;                         // "GET", "POST", …
+  std::string path;                           // decoded, e.g. "/api/avatar"
+  std::map<std::string, std::string> query;   // decoded query parameters
+  std::string body;
+  std::string content_type;                   // as sent, e.g. "application/json"
+};
+
+struct ApiResponse {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+  std::string download_name;  // non-empty: sent as an attachment with this file name
+};
+
+// A JSON error body: {"error": {"message", "field", "accepted_range": {min, max, unit} | null, "kind"}}.
+// The accepted range is filled in from the measurement catalogue when `field` is a measurement.
+ApiResponse error_response(int status, const std::string& message, const std::string& field = {},
+                           const std::string& kind = "bad_request");
+
+struct ApiOptions {
+  std::string models_dir;                   // empty: the library's models folder
+  std::string default_model = "mannequin";
+};
+
+// Routes /api/* requests. Thread-safe: one AvatarBuilder per (model, sex) is created on first use
+// and kept for the lifetime of the Api (regressors train once).
+class Api {
+ public:
+  explicit Api(ApiOptions options = {});
+  ~Api();
+  Api(const Api&) = delete;
+  Api& operator=(const Api&) = delete;
+
+  ApiResponse handle(const ApiRequest& request) const;
+
+  // Loads the model for each sex and trains the preset regressors, so the first request from the
+  // page is as fast as the rest. Returns the sexes it prepared; errors are reported, not thrown.
+  std::vector<std::string> warm_up(const std::string& model, std::string* problems = nullptr) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace caliper::server

@@ -1,0 +1,163 @@
+// The HTTP transport: cpp-httplib with a worker pool, a body-size limit, the API under /api/ and
+// the front end's static files. httplib.h is included only here: its <resolv.h> defines a `_res`
+// macro that breaks Eigen, and no Eigen header is reachable from this file.
+#include "server.h"
+
+#include <httplib.h>
+#include <sys/socket.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "caliper/errors.h"
+#include "static_files.h"
+
+namespace caliper::server {
+
+struct Server::Impl {
+  ServerOptions options;
+  Api api;
+  httplib::Server http;
+  int port = -1;
+  int listen_socket = -1;  // captured from httplib to raise its listen backlog
+
+  explicit Impl(ServerOptions o) : options(std::move(o)), api(options.api) {}
+
+  static void send(httplib::Response& res, const ApiResponse& r) {
+    res.status = r.status;
+    res.set_content(r.body, r.content_type.c_str());
+    if (!r.download_name.empty())
+      res.set_header("Content-Disposition", "attachment; filename=\"" + r.download_name + "\"");
+    res.set_header("Cache-Control", "no-store");
+  }
+
+  void handle_api(const httplib::Request& req, httplib::Response& res) const {
+    ApiRequest a;
+    a.method = req.method;
+    a.path = req.path;
+    for (const auto& [k, v] : req.params) a.query.emplace(k, v);
+    a.body = req.body;
+    a.content_type = req.get_header_value("Content-Type");
+    send(res, api.handle(a));
+  }
+
+  void handle_static(const httplib::Request& req, httplib::Response& res) const {
+    const auto file = resolve_static_path(options.web_root, req.path);
+    if (!file) {
+      send(res, error_response(404, "not found: " + req.path, "path", "not_found"));
+      return;
+    }
+    std::ifstream in(*file, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    if (!in) {
+      send(res, error_response(404, "not found: " + req.path, "path", "not_found"));
+      return;
+    }
+    res.set_content(bytes.str(), mime_type_for(*file).c_str());
+    res.set_header("Cache-Control", "no-cache");
+  }
+
+  void dispatch(const httplib::Request& req, httplib::Response& res) const {
+    res.set_header("X-Content-Type-Options", "nosniff");
+    res.set_header("Referrer-Policy", "no-referrer");
+    if (req.path.rfind("/api/", 0) == 0) handle_api(req, res);
+    else if (req.method == "GET" || req.method == "HEAD") handle_static(req, res);
+    else send(res, error_response(405, req.method + " is only allowed on /api/ endpoints", "method", "method_not_allowed"));
+  }
+};
+
+Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {
+  Impl& s = *impl_;
+  const int threads = std::max(1, s.options.threads);
+  s.http.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
+  s.http.set_payload_max_length(s.options.max_body_bytes);
+  s.http.set_read_timeout(10, 0);
+  // httplib gives every connection a worker thread for as long as it stays open, idle keep-alive
+  // included, so browsers (six connections each) and keep-alive clients could hold all workers
+  // while others queue. Short keep-alive on loopback costs a reconnect, not a stall.
+  s.http.set_keep_alive_timeout(1);
+  s.http.set_keep_alive_max_count(100);
+  // httplib listens with a backlog of 5, so a burst of clients overflows the accept queue and
+  // some connections fail. Remember the listening socket (SO_REUSEADDR as httplib would, but not
+  // SO_REUSEPORT, which would let another process share the port) and re-listen after binding.
+  s.http.set_socket_options([&s](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    s.listen_socket = sock;
+  });
+  s.http.set_write_timeout(10, 0);
+  // No response compression: on loopback it only costs time, and httplib 0.11 picks brotli at
+  // its slowest quality whenever the client accepts it (over 20 s for three.js's 1.5 MB, and
+  // milliseconds on every avatar). httplib decides from the request's Accept-Encoding when it
+  // writes the response, so the header is dropped here, before routing. The Request object is
+  // httplib's own non-const local; only the handler interface hands it out as const.
+  s.http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response&) {
+    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+  auto handler = [&s](const httplib::Request& req, httplib::Response& res) { s.dispatch(req, res); };
+  s.http.Get(".*", handler);
+  s.http.Post(".*", handler);
+  s.http.Put(".*", handler);
+  s.http.Delete(".*", handler);
+  s.http.Patch(".*", handler);
+  // httplib's own refusals (413 for an oversized body, 400 for a malformed request line) come
+  // without a body; give them the API's JSON error shape.
+  s.http.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    std::string message = "request refused";
+    std::string field;
+    std::string kind = "bad_request";
+    if (res.status == 413) {
+      message = "the request body is too large";
+      field = "body";
+      kind = "payload_too_large";
+    } else if (res.status == 404) {
+      message = "not found";
+      kind = "not_found";
+    }
+    const ApiResponse e = error_response(res.status, message, field, kind);
+    res.set_content(e.body, e.content_type.c_str());
+    return httplib::Server::HandlerResponse::Handled;
+  }));
+  if (s.options.log)
+    s.http.set_logger([&s](const httplib::Request& req, const httplib::Response& res) {
+      s.options.log(req.method + " " + req.path + " " + std::to_string(res.status) + " " + std::to_string(res.body.size()) + " B");
+    });
+}
+
+Server::~Server() {
+  if (impl_->http.is_running()) impl_->http.stop();
+}
+
+int Server::bind() {
+  Impl& s = *impl_;
+  if (s.options.port < 0 || s.options.port > 65535)
+    throw Error(ErrorKind::OutOfRange, "port must be in [0, 65535] (0 = any free port)", "--port");
+  if (s.options.port == 0) {
+    s.port = s.http.bind_to_any_port(s.options.host);
+  } else {
+    s.port = s.http.bind_to_port(s.options.host, s.options.port) ? s.options.port : -1;
+  }
+  if (s.port < 0)
+    throw Error(ErrorKind::Io,
+                "cannot listen on " + s.options.host + ":" + std::to_string(s.options.port) +
+                    " (in use or not a local address; try --port 0 for any free port)",
+                "--port");
+  if (s.listen_socket >= 0) ::listen(s.listen_socket, SOMAXCONN);
+  return s.port;
+}
+
+int Server::port() const { return impl_->port; }
+
+void Server::run() {
+  if (impl_->port < 0) bind();
+  impl_->http.listen_after_bind();
+}
+
+void Server::stop() { impl_->http.stop(); }
+
+const Api& Server::api() const { return impl_->api; }
+
+}  // namespace caliper::server

@@ -1,0 +1,248 @@
+#!/usr/bin/env node
+// End-to-end test of the desktop tool in headless Chromium driven by Playwright (playwright-core,
+// from web/node_modules; the browser is Debian's /usr/bin/chromium). It starts `caliper serve`
+// on a free port, loads the page, changes values, checks the measurements table and the rendered
+// canvas change, shows an error for an out-of-range value, exports a .glb and validates it with
+// tools/validate-gltf.mjs, imports a CSV measurement set, and checks that the page asks for
+// nothing outside the server (works offline).
+//
+//   node tests/e2e/desktop.spec.mjs --caliper build/bin/caliper [--screenshots DIR] [--keep]
+//
+// Exit: 0 pass, 1 fail, 77 skipped (no browser, no playwright-core or no body model).
+import { spawn, spawnSync } from 'node:child_process';
+import { existsSync, mkdtempSync, readFileSync, readdirSync, rmSync, writeFileSync, mkdirSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { createRequire } from 'node:module';
+import { fileURLToPath } from 'node:url';
+
+const root = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
+const args = process.argv.slice(2);
+const opt = (name, fallback) => {
+  const i = args.indexOf(name);
+  return i >= 0 && i + 1 < args.length ? args[i + 1] : fallback;
+};
+const caliper = resolve(opt('--caliper', join(root, 'build', 'bin', 'caliper')));
+const screenshots = opt('--screenshots', null);
+const chromiumPath = process.env.CALIPER_CHROMIUM ?? '/usr/bin/chromium';
+
+function skip(why) {
+  console.log(`SKIP: ${why}`);
+  process.exit(77);
+}
+
+let chromium;
+try {
+  ({ chromium } = createRequire(join(root, 'web', 'package.json'))('playwright-core'));
+} catch {
+  skip('playwright-core is not installed in web/ (run scripts/install-deps.sh)');
+}
+if (!existsSync(chromiumPath)) skip(`no Chromium at ${chromiumPath}`);
+if (!existsSync(caliper)) {
+  console.error(`FAIL: no caliper binary at ${caliper}`);
+  process.exit(1);
+}
+const modelsDir = process.env.CALIPER_MODELS_DIR ?? join(root, 'models');
+if (!existsSync(modelsDir) || !readdirSync(modelsDir).some((f) => /^mannequin-.*\.npz$/.test(f)))
+  skip(`no mannequin model in ${modelsDir} (commit models/ or set CALIPER_MODELS_DIR)`);
+
+// The page under test is the current web/src, built into web/dist.
+const build = spawnSync(process.execPath, [join(root, 'web', 'build.mjs')], { encoding: 'utf8' });
+if (build.status !== 0) {
+  console.error(`FAIL: web/build.mjs: ${build.stderr}`);
+  process.exit(1);
+}
+
+// ---------------------------------------------------------------------------------------------
+
+let failures = 0;
+function check(ok, what, detail = '') {
+  if (ok) console.log(`ok   ${what}`);
+  else {
+    failures += 1;
+    console.log(`FAIL ${what}${detail ? `: ${detail}` : ''}`);
+  }
+}
+
+function startServer() {
+  return new Promise((resolvePromise, reject) => {
+    const child = spawn(caliper, ['serve', '--port', '0', '--web-root', join(root, 'web', 'dist'), '--quiet'],
+      { env: { ...process.env, CALIPER_MODELS_DIR: modelsDir }, stdio: ['ignore', 'pipe', 'pipe'] });
+    let out = '', err = '';
+    const timer = setTimeout(() => reject(new Error(`server did not start: ${out}${err}`)), 120000);
+    child.stdout.on('data', (d) => {
+      out += d;
+      const m = /http:\/\/([\d.]+):(\d+)\//.exec(out);
+      if (m) {
+        clearTimeout(timer);
+        resolvePromise({ child, base: `http://${m[1]}:${m[2]}` });
+      }
+    });
+    child.stderr.on('data', (d) => { err += d; });
+    child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`server exited (${code}): ${err}`)); });
+  });
+}
+
+const tmp = mkdtempSync(join(tmpdir(), 'caliper-e2e-'));
+const { child: server, base } = await startServer();
+const browser = await chromium.launch({
+  executablePath: chromiumPath,
+  headless: true,
+  args: ['--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking',
+         '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+
+try {
+  const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, acceptDownloads: true });
+  const page = await context.newPage();
+  const pageErrors = [];
+  page.on('pageerror', (e) => pageErrors.push(String(e)));
+  // The browser logs every 4xx response as a console error; the deliberate ones are not bugs.
+  page.on('console', (m) => {
+    if (m.type() === 'error' && !/Failed to load resource: the server responded with a status of 4\d\d/.test(m.text()))
+      pageErrors.push(m.text());
+  });
+  // Offline: everything must come from the Caliper server.
+  const outside = [];
+  await page.route('**/*', (route) => {
+    const url = route.request().url();
+    if (url.startsWith(base) || url.startsWith('data:') || url.startsWith('blob:')) return route.continue();
+    outside.push(url);
+    return route.abort();
+  });
+
+  const updates = () => page.evaluate(() => window.caliper?.updates ?? 0);
+  // Waits until the page has finished at least `n` updates and nothing is pending.
+  async function settle(n) {
+    await page.waitForFunction((k) => (window.caliper?.updates ?? 0) >= k, n, { timeout: 60000 });
+    let last = -1;
+    for (let i = 0; i < 50; ++i) {
+      const u = await updates();
+      if (u === last) break;
+      last = u;
+      await page.waitForTimeout(300);
+    }
+  }
+  // The canvas as pixels, kept in the page; the second call returns how many pixels changed.
+  const snapshot = () => page.evaluate(() => {
+    const src = window.caliper.viewer.canvas;
+    const c = document.createElement('canvas');
+    c.width = src.width; c.height = src.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(src, 0, 0);
+    const data = ctx.getImageData(0, 0, c.width, c.height).data;
+    let changed = 0, painted = 0;
+    const prev = window.__snap;
+    for (let i = 0; i < data.length; i += 4) {
+      if (data[i + 3] > 0) painted += 1;
+      if (prev && (Math.abs(prev[i] - data[i]) + Math.abs(prev[i + 1] - data[i + 1]) + Math.abs(prev[i + 2] - data[i + 2]) > 24)) changed += 1;
+    }
+    window.__snap = data;
+    return { changed, painted, total: data.length / 4 };
+  });
+  const tableText = () => page.locator('#measurements tbody').innerText();
+  const cell = (name, col) => page.locator(`#measurements tr[data-name="${name}"] td`).nth(col).innerText();
+
+  await page.goto(`${base}/`);
+  await settle(1);
+  check(await page.title() === 'Caliper — desktop tool', 'the page loads');
+  const first = await snapshot();
+  check(first.painted > first.total * 0.02, 'the canvas shows a body', `${first.painted} of ${first.total} pixels painted`);
+  const tableA = await tableText();
+  check(/Height/.test(tableA) && /Chest/i.test(tableA), 'the table lists inputs and predicted circumferences', tableA.slice(0, 200));
+  check((await page.locator('#beta-bars .beta').count()) >= 2, 'shape values are drawn as bars');
+  check(/plausible|unusual|implausible/.test(await page.locator('#verdict').innerText()), 'a verdict in words');
+  if (screenshots) { mkdirSync(screenshots, { recursive: true }); await page.screenshot({ path: join(screenshots, 'desktop-tool.png') }); }
+
+  // Change values: type a height, nudge the weight slider with the keyboard.
+  let n = await updates();
+  await page.fill('#in-stature', '186');
+  await settle(n + 1);
+  const weightSlider = page.locator('.row[data-name="weight"] input[type=range]');
+  await weightSlider.focus();
+  n = await updates();
+  for (let i = 0; i < 40; ++i) await page.keyboard.press('ArrowRight');
+  await settle(n + 1);
+  const tableB = await tableText();
+  check(tableB !== tableA, 'the table changes with the values');
+  check((await cell('stature', 1)).startsWith('186.0'), 'the table shows the requested height', await cell('stature', 1));
+  const achieved = parseFloat(await cell('stature', 2));
+  check(Math.abs(achieved - 186) < 0.5, 'the avatar reaches the requested height', String(achieved));
+  const weight = parseFloat(await page.inputValue('#in-weight'));
+  check(Math.abs(weight - (67.8 + 4.0)) < 0.05, 'the slider drives the number field', String(weight));
+  const second = await snapshot();
+  check(second.changed > second.total * 0.005, 'the rendered canvas changes', `${second.changed} pixels changed`);
+
+  // Round trips while a value changes (the page measures fetch → JSON).
+  const trips = [];
+  for (let i = 0; i < 10; ++i) {
+    n = await updates();
+    await page.fill('#in-span', String(180 + i));
+    await settle(n + 1);
+    trips.push(await page.evaluate(() => window.caliper.lastRoundTripMs));
+  }
+  trips.sort((a, b) => a - b);
+  console.log(`info round trip in the page (headless, software GL): median ${trips[5].toFixed(1)} ms, max ${trips[9].toFixed(1)} ms`);
+
+  // An out-of-range value: the page says which field and the accepted range, and keeps the body.
+  await page.fill('#in-stature', '400');
+  const err = page.locator('#error');
+  await err.waitFor({ state: 'visible', timeout: 10000 });
+  const errText = await err.innerText();
+  check(/stature/.test(errText) && /50–250 cm/.test(errText), 'an out-of-range value is explained', errText);
+  check(await page.locator('.row[data-name="stature"].invalid').count() === 1, 'the offending field is marked');
+  n = await updates();
+  await page.fill('#in-stature', '186');
+  await settle(n + 1);
+  check(await err.isHidden(), 'the error clears when the value is fixed');
+
+  // Camera presets.
+  await snapshot();
+  await page.click('.view-presets button[data-view="side"]');
+  await page.waitForTimeout(300);
+  const side = await snapshot();
+  check(side.changed > side.total * 0.005, 'the side preset turns the view', `${side.changed} pixels changed`);
+  if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-side.png') });
+  await page.click('.view-presets button[data-view="front"]');
+
+  // Export a .glb and validate it with the Khronos validator.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-glb')]);
+  const glb = join(tmp, download.suggestedFilename());
+  await download.saveAs(glb);
+  check(/\.glb$/.test(glb), 'the export is named .glb', glb);
+  const v = spawnSync(process.execPath, [join(root, 'tools', 'validate-gltf.mjs'), glb], { encoding: 'utf8' });
+  let summary = {};
+  try { summary = JSON.parse(v.stdout.trim().split('\n').pop()); } catch { /* reported below */ }
+  check(v.status === 0 && summary.numErrors === 0, 'the exported .glb passes the glTF validator', v.stdout + v.stderr);
+  check(summary.info?.hasSkins === true, 'the exported .glb is rigged (has a skin)');
+
+  // Measurement sets: import a CSV from a tape measure, export it again.
+  n = await updates();
+  const csv = 'measurement,value,unit\nsex,male,\nheight,1781,mm\nweight,79,kg\narm span,183,cm\ninseam,83.5,cm\nhip width,35,cm\nchest_circumference,99,cm\n';
+  await page.setInputFiles('#import-file', { name: 'tape.csv', mimeType: 'text/csv', buffer: Buffer.from(csv) });
+  await settle(n + 1);
+  check(await page.inputValue('#sex') === 'male', 'the imported set sets the sex');
+  check(parseFloat(await page.inputValue('#in-stature')) === 178.1, 'the imported set sets the height (mm → cm)', await page.inputValue('#in-stature'));
+  check((await cell('chest_circumference', 1)).startsWith('99.0'), 'an imported non-input shows as requested vs avatar');
+  check(/R5/.test(await page.locator('#regressor-used').innerText()), 'five inputs pick R5');
+  const [setDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-set-csv')]);
+  const setFile = join(tmp, setDownload.suggestedFilename());
+  await setDownload.saveAs(setFile);
+  const setText = readFileSync(setFile, 'utf8');
+  check(/^measurement,value,unit\n/.test(setText) && /\nstature,178\.1,cm\n/.test(setText) && /\nsex,male,\n/.test(setText),
+    'the measurement set exports as CSV', setText);
+  if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-imported.png') });
+
+  check(outside.length === 0, 'nothing is fetched from outside the server (offline)', outside.join(', '));
+  check(pageErrors.length === 0, 'no errors in the page', pageErrors.join('\n'));
+} catch (e) {
+  failures += 1;
+  console.log(`FAIL ${e.stack ?? e}`);
+} finally {
+  await browser.close();
+  server.kill('SIGTERM');
+  if (!args.includes('--keep')) rmSync(tmp, { recursive: true, force: true });
+}
+
+console.log(failures ? `${failures} check(s) failed` : 'all checks passed');
+process.exit(failures ? 1 : 0);

@@ -1,0 +1,42 @@
+#!/usr/bin/env node
+// Builds the desktop tool's static files into web/dist: the page's own files from web/src and the
+// three.js modules it imports from node_modules (no CDN: the page works offline). There is no
+// bundler; an import map in index.html points the bare 'three' specifier at vendor/three/.
+//
+//   node web/build.mjs          (after `npm ci` in web/, which scripts/install-deps.sh runs)
+import { cp, mkdir, rm, readFile, writeFile, access } from 'node:fs/promises';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const src = join(here, 'src');
+const dist = join(here, 'dist');
+const three = join(here, 'node_modules', 'three');
+
+try {
+  await access(join(three, 'build', 'three.module.js'));
+} catch {
+  console.error('web/build.mjs: three is not installed; run `npm ci` in web/ (or scripts/install-deps.sh)');
+  process.exit(2);
+}
+
+await rm(dist, { recursive: true, force: true });
+await mkdir(join(dist, 'vendor', 'three', 'addons'), { recursive: true });
+await cp(src, dist, { recursive: true });
+
+// three.module.js imports ./three.core.js (r17x+); copy whichever of the two exist.
+const vendored = ['three.module.js', 'three.core.js'];
+for (const file of vendored) {
+  try {
+    await cp(join(three, 'build', file), join(dist, 'vendor', 'three', file));
+  } catch (e) {
+    if (file === 'three.module.js') throw e;
+  }
+}
+await cp(join(three, 'examples', 'jsm', 'controls', 'OrbitControls.js'),
+         join(dist, 'vendor', 'three', 'addons', 'OrbitControls.js'));
+await cp(join(three, 'LICENSE'), join(dist, 'vendor', 'three', 'LICENSE'));
+
+const pkg = JSON.parse(await readFile(join(three, 'package.json'), 'utf8'));
+await writeFile(join(dist, 'vendor', 'three', 'VERSION'), `three ${pkg.version} (MIT), copied from node_modules\n`);
+console.log(`web/build.mjs: wrote ${dist} (three ${pkg.version})`);
