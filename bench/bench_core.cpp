@@ -44,13 +44,14 @@ void BM_MeasurementsToGlb(benchmark::State& state) {
   AvatarBuilder builder(model);
   AvatarRequest req{typical_inputs(), "R5"};
   builder.build(req);  // train once: the server keeps its builders
+  req.measure_avatar = state.range(0) != 0;  // 0: measurements → β → body → GLB bytes; 1: also measure all
   for (auto _ : state) {
     const Avatar a = builder.build(req);
     std::string glb = write_glb(*model, a.rest_vertices);
     benchmark::DoNotOptimize(glb.data());
   }
 }
-BENCHMARK(BM_MeasurementsToGlb)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MeasurementsToGlb)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_MeasureAll(benchmark::State& state) {
   const auto model = female_model();

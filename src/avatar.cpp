@@ -108,7 +108,9 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   avatar.joints = model_->joints(avatar.rest_vertices);
   avatar.plausibility = judge_plausibility(avatar.beta);
   avatar.requested = request.measurements;
-  if (request.measure_only.empty()) {
+  if (!request.measure_avatar) {
+    // Nothing measured: the caller only wants the body.
+  } else if (request.measure_only.empty()) {
     avatar.achieved = measure_all(*model_, avatar.rest_vertices);
   } else {
     avatar.achieved = measure_some(*model_, request.measure_only, avatar.rest_vertices);

@@ -22,6 +22,8 @@ struct AvatarRequest {
   // Measure only these on the avatar (empty: every measurement the model knows). Evaluation
   // uses it to skip the sections it does not compare.
   std::vector<std::string> measure_only;
+  // Measure the avatar at all (false: `achieved` stays empty; for callers that only export).
+  bool measure_avatar = true;
 };
 
 struct Avatar {

@@ -1,0 +1,57 @@
+// Private helpers of the mannequin generator: monotone cubic interpolation (Fritsch & Carlson
+// 1980), so ring parameters pass exactly through the imposed values without overshoot.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace caliper::mannequin::detail {
+
+class MonotoneCurve {
+ public:
+  MonotoneCurve() = default;
+  // Knots should have increasing x; a knot not strictly after the previous kept one is dropped
+  // (clamped levels of unusual bodies can coincide).
+  MonotoneCurve(const std::vector<double>& x, const std::vector<double>& y) {
+    for (size_t i = 0; i < x.size(); ++i)
+      if (x_.empty() || x[i] > x_.back() + 1e-9) { x_.push_back(x[i]); y_.push_back(y[i]); }
+    const size_t n = x_.size();
+    m_.assign(n, 0.0);
+    if (n < 2) return;
+    std::vector<double> d(n - 1);
+    for (size_t i = 0; i + 1 < n; ++i) d[i] = (y_[i + 1] - y_[i]) / (x_[i + 1] - x_[i]);
+    m_[0] = d[0];
+    m_[n - 1] = d[n - 2];
+    for (size_t i = 1; i + 1 < n; ++i) m_[i] = (d[i - 1] * d[i] <= 0) ? 0.0 : (d[i - 1] + d[i]) / 2;
+    for (size_t i = 0; i + 1 < n; ++i) {
+      if (d[i] == 0) { m_[i] = m_[i + 1] = 0; continue; }
+      const double a = m_[i] / d[i], b = m_[i + 1] / d[i], s = a * a + b * b;
+      if (s > 9) {
+        const double t = 3 / std::sqrt(s);
+        m_[i] = t * a * d[i];
+        m_[i + 1] = t * b * d[i];
+      }
+    }
+  }
+  double operator()(double t) const {
+    const size_t n = x_.size();
+    if (n == 1) return y_[0];
+    if (t <= x_.front()) return y_.front();
+    if (t >= x_.back()) return y_.back();
+    const size_t i = static_cast<size_t>(std::upper_bound(x_.begin(), x_.end(), t) - x_.begin()) - 1;
+    const double h = x_[i + 1] - x_[i], u = (t - x_[i]) / h;
+    const double u2 = u * u, u3 = u2 * u;
+    return (2 * u3 - 3 * u2 + 1) * y_[i] + (u3 - 2 * u2 + u) * h * m_[i] + (-2 * u3 + 3 * u2) * y_[i + 1] +
+           (u3 - u2) * h * m_[i + 1];
+  }
+
+ private:
+  std::vector<double> x_, y_, m_;
+};
+
+inline double smoothstep(double e0, double e1, double x) {
+  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+}  // namespace caliper::mannequin::detail
