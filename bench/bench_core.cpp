@@ -42,7 +42,9 @@ BENCHMARK(BM_TrainFourPresets)->Unit(benchmark::kMillisecond);
 void BM_MeasurementsToGlb(benchmark::State& state) {
   const auto model = female_model();
   AvatarBuilder builder(model);
-  AvatarRequest req{typical_inputs(), "R5"};
+  AvatarRequest req;
+  req.measurements = typical_inputs();
+  req.regressor = "R5";
   builder.build(req);  // train once: the server keeps its builders
   req.measure_avatar = state.range(0) != 0;  // 0: measurements → β → body → GLB bytes; 1: also measure all
   for (auto _ : state) {

@@ -7,10 +7,10 @@ bash scripts/install-deps.sh
 bash scripts/build.sh
 mkdir -p out
 echo
-echo "[caliper] building an avatar on the built-in body (female, 165 cm, 60 kg, arm span 168 cm, inseam 77 cm, hip width 36 cm)"
-build/bin/caliper avatar --sex female --height 165 --weight 60 --arm-span 168 --inseam 77 --hip-width 36 \
+echo "[caliper] building an avatar on the built-in body (female, 165 cm, 62 kg, arm span 167 cm, inseam 78 cm, hip width 36 cm)"
+build/bin/caliper avatar --sex female --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 \
   -o out/avatar.glb --report out/avatar-report.json
-build/bin/caliper render --sex female --height 165 --weight 60 --arm-span 168 --inseam 77 --hip-width 36 \
+build/bin/caliper render --sex female --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 \
   -o out/avatar.png
 echo
 echo "[caliper] done: out/avatar.glb (rigged glTF 2.0: Blender, Unity, three.js), out/avatar-report.json, out/avatar.png"

@@ -83,7 +83,9 @@ BuiltAvatar build_avatar(const BodyOptions& opts) {
     a.achieved = measure_all(*out.model, a.rest_vertices);
     return out;
   }
-  AvatarRequest request{si, opts.regressor};
+  AvatarRequest request;
+  request.measurements = si;
+  request.regressor = opts.regressor;
   if (!opts.map_file.empty()) {
     // A user's own map replaces the model's default one.
     RealToVirtual::load(opts.map_file).apply(request.measurements);

@@ -114,7 +114,9 @@ void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Ver
   for (const auto& method : methods) {
     const std::string regressor = method.rfind("baseline:", 0) == 0 ? method.substr(9) : method;
     try {
-      AvatarRequest req{noisy, regressor};
+      AvatarRequest req;
+      req.measurements = noisy;
+      req.regressor = regressor;
       req.measure_only = measured_names();
       const Avatar a = builder.build(req);
       for (const auto& in : a.inputs) {
@@ -281,7 +283,9 @@ std::map<std::string, SurfaceStats> synthetic_surface_study(const AvatarBuilder&
     // The synthetic person's "real" measurements are the virtual ones: no real → virtual map.
     for (const auto& [name, mae] : table2_mae(noise)) m[name] += rng.normal() * mae * std::sqrt(M_PI / 2);
     for (const auto& r : regressors) {
-      AvatarRequest req{m, r};
+      AvatarRequest req;
+      req.measurements = m;
+      req.regressor = r;
       req.apply_model_maps = false;
       req.measure_only = {"stature"};
       const Vertices rebuilt = align(builder.build(req).rest_vertices);

@@ -96,20 +96,20 @@ const MeasurementInfo* find_measurement_info(const std::string& name_or_alias) {
 
 const char* edge_unit(const MeasurementInfo& info) { return info.unit == Unit::Kilogram ? "kg" : "cm"; }
 
-static std::string format_number(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
 double edge_to_si(const MeasurementInfo& info, double edge_value) {
-  const std::string range = "[" + format_number(info.min_edge) + ", " + format_number(info.max_edge) + "] " + edge_unit(info);
-  if (!std::isfinite(edge_value))
-    throw Error(ErrorKind::InvalidArgument, info.name + " must be a finite number in " + range + " (got " +
-                                                format_number(edge_value) + ")", info.name);
-  if (edge_value < info.min_edge || edge_value > info.max_edge)
-    throw Error(ErrorKind::OutOfRange, info.name + " = " + format_number(edge_value) + " " + edge_unit(info) +
-                                           " is outside the accepted range " + range, info.name);
+  // Messages are built with a stream: GCC 12 warns (-Wrestrict, falsely) on long operator+ chains.
+  std::ostringstream range;
+  range << "[" << info.min_edge << ", " << info.max_edge << "] " << edge_unit(info);
+  if (!std::isfinite(edge_value)) {
+    std::ostringstream msg;
+    msg << info.name << " must be a finite number in " << range.str() << " (got " << edge_value << ")";
+    throw Error(ErrorKind::InvalidArgument, msg.str(), info.name);
+  }
+  if (edge_value < info.min_edge || edge_value > info.max_edge) {
+    std::ostringstream msg;
+    msg << info.name << " = " << edge_value << " " << edge_unit(info) << " is outside the accepted range " << range.str();
+    throw Error(ErrorKind::OutOfRange, msg.str(), info.name);
+  }
   return info.unit == Unit::Kilogram ? edge_value : edge_value / 100.0;
 }
 

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Renders the pictures of the built-in body shown in the README and docs/mannequin.md, with the
+# project's own renderer (caliper render). Usage: scripts/render-docs.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/build.sh >/dev/null
+c=build/bin/caliper
+mkdir -p docs/images
+size=(--image-width 520 --image-height 700)
+$c render --sex female --beta 0 -o docs/images/mannequin-mean-female.png "${size[@]}"
+$c render --sex male --beta 0 -o docs/images/mannequin-mean-male.png "${size[@]}"
+$c render --sex male --height 193 --weight 72 -o docs/images/mannequin-tall-thin.png "${size[@]}"
+$c render --sex female --height 153 --weight 88 -o docs/images/mannequin-short-heavy.png "${size[@]}"
