@@ -64,24 +64,40 @@ CornerDesign build_corner_design(const BodyModel& model, const std::vector<std::
   design.feature_names = measurements;
   design.betas.resize(corners, k);
   design.features.resize(corners, static_cast<Eigen::Index>(defs.size()));
-  for (Eigen::Index c = 0; c < corners; ++c)
-    for (int i = 0; i < k; ++i) design.betas(c, i) = (c >> i) & 1 ? 2.0 : -2.0;  // ±2 SD (paper §3.4.3)
-  // Corners are independent: two workers fill disjoint rows, so the result is the same bits as a
-  // single-threaded run.
+  // Rows follow the Gray code (row r is corner r ^ (r >> 1)): consecutive corners differ in one
+  // shape value, so a body is the previous one plus ±4 SD along one direction — one vector
+  // update instead of a full T̄ + S·β. Blocks of rows are independent (each starts from a full
+  // evaluation), so the result does not depend on how the two workers share them.
+  for (Eigen::Index r = 0; r < corners; ++r) {
+    const Eigen::Index c = r ^ (r >> 1);
+    for (int i = 0; i < k; ++i) design.betas(r, i) = (c >> i) & 1 ? 2.0 : -2.0;  // ±2 SD (paper §3.4.3)
+  }
+  constexpr Eigen::Index kBlock = 64;
+  const Eigen::Index blocks = (corners + kBlock - 1) / kBlock;
+  const Eigen::MatrixXd& directions = model.data().shape_directions;
   std::atomic<Eigen::Index> next{0};
   std::vector<std::string> errors(2);
   auto worker = [&](int id) {
     Vertices rest;
     try {
-      for (Eigen::Index c = next++; c < corners; c = next++) {
-        model.rest_vertices(design.betas.row(c).transpose(), rest);
-        for (size_t m = 0; m < defs.size(); ++m)
-          design.features(c, static_cast<Eigen::Index>(m)) =
-              defs[m]->kind == MeasurementKind::Weight ? volume_feature(model, rest) : measure(model, *defs[m], rest);
+      for (Eigen::Index b = next++; b < blocks; b = next++) {
+        for (Eigen::Index r = b * kBlock; r < std::min(corners, (b + 1) * kBlock); ++r) {
+          if (r == b * kBlock) {
+            model.rest_vertices(design.betas.row(r).transpose(), rest);
+          } else {
+            int flipped = 0;
+            while (!((r >> flipped) & 1)) ++flipped;  // Gray code: bit ctz(r) changes
+            Eigen::Map<Eigen::VectorXd> flat(rest.data(), rest.size());
+            flat += (design.betas(r, flipped) - design.betas(r - 1, flipped)) * directions.col(flipped);
+          }
+          for (size_t m = 0; m < defs.size(); ++m)
+            design.features(r, static_cast<Eigen::Index>(m)) =
+                defs[m]->kind == MeasurementKind::Weight ? volume_feature(model, rest) : measure(model, *defs[m], rest);
+        }
       }
     } catch (const std::exception& e) {
       errors[static_cast<size_t>(id)] = e.what();
-      next = corners;
+      next = blocks;
     }
   };
   std::thread helper(worker, 1);
