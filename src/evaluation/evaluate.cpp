@@ -11,6 +11,7 @@
 #include "caliper/measure/catalogue.h"
 #include "caliper/measure/measure.h"
 #include "caliper/random.h"
+#include "parallel.h"
 
 namespace caliper {
 
@@ -167,34 +168,14 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
       means[s.sex] = builders[s.sex]->model().rest_vertices(Eigen::VectorXd());
     }
   std::vector<SubjectErrors> per(static_cast<size_t>(n));
-  std::atomic<int> next{0}, done{0};
-  std::vector<std::string> errors(static_cast<size_t>(n));
-  auto worker = [&] {
-    for (int i = next++; i < n; i = next++) {
-      try {
+  const std::vector<std::string> errors = detail::parallel_for(
+      n, opt.threads,
+      [&](int i) {
         const Sex sex = subjects[static_cast<size_t>(i)].sex;
         evaluate_one(subjects[static_cast<size_t>(i)], *builders.at(sex), means.at(sex), opt,
                      opt.seed * 1000003ULL + static_cast<std::uint64_t>(i), per[static_cast<size_t>(i)]);
-      } catch (const std::exception& e) {
-        errors[static_cast<size_t>(i)] = e.what();
-      }
-      ++done;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, opt.threads); ++t) pool.emplace_back(worker);
-  if (opt.progress) {
-    std::thread own(worker);
-    while (done.load() < n) {
-      opt.progress(done.load(), n);
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    own.join();
-    opt.progress(n, n);
-  } else {
-    worker();
-  }
-  for (auto& t : pool) t.join();
+      },
+      opt.progress);
   for (int i = 0; i < n; ++i)
     if (!errors[static_cast<size_t>(i)].empty())
       throw Error(ErrorKind::Format, "subject " + subjects[static_cast<size_t>(i)].id + ": " + errors[static_cast<size_t>(i)], "subjects");

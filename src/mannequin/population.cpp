@@ -10,6 +10,7 @@
 
 #include "caliper/errors.h"
 #include "caliper/random.h"
+#include "parallel.h"
 #include "caliper/mannequin/generator.h"
 #include "caliper/measure/geometry.h"
 #include "caliper/measure/measure.h"
@@ -43,11 +44,9 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
   // One body per subject, row s of `bodies` (row-major N×3 flattened: x0 y0 z0 x1 …).
   Eigen::MatrixXd bodies(n, dim);
   std::vector<double> volumes(static_cast<size_t>(n));
-  std::atomic<int> next{0}, done{0};
-  std::vector<std::string> errors(static_cast<size_t>(n));
-  auto worker = [&] {
-    for (int i = next++; i < n; i = next++) {
-      try {
+  const std::vector<std::string> errors = detail::parallel_for(
+      n, options.threads,
+      [&](int i) {
         Dimensions dims;
         for (const auto& col : input_columns()) {
           auto it = subjects[static_cast<size_t>(i)]->values.find(col);
@@ -57,26 +56,8 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
                                     subjects[static_cast<size_t>(i)]->sex);
         bodies.row(i) = Eigen::Map<const Eigen::RowVectorXd>(v.data(), dim);
         volumes[static_cast<size_t>(i)] = signed_volume(v, topo.faces);
-      } catch (const std::exception& e) {
-        errors[static_cast<size_t>(i)] = e.what();
-      }
-      ++done;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, options.threads); ++t) pool.emplace_back(worker);
-  if (options.progress) {
-    std::thread main_worker(worker);
-    while (done.load() < n) {
-      options.progress(done.load(), n);
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    }
-    main_worker.join();
-    options.progress(n, n);
-  } else {
-    worker();
-  }
-  for (auto& t : pool) t.join();
+      },
+      options.progress);
   for (int i = 0; i < n; ++i)
     if (!errors[static_cast<size_t>(i)].empty())
       throw Error(ErrorKind::Format, "subject " + subjects[static_cast<size_t>(i)]->id + ": " + errors[static_cast<size_t>(i)],
