@@ -143,7 +143,10 @@ void register_batch(CLI::App& app) {
     int done = 0;
     for (const auto& s : subjects) {
       auto builder = builder_for(s.sex);
-      const Avatar a = builder->build({virtual_caliper_inputs(s), *regressor});
+      AvatarRequest request;
+      request.measurements = virtual_caliper_inputs(s);
+      request.regressor = *regressor;
+      const Avatar a = builder->build(request);
       // Subject ids become file names: keep them to safe characters.
       std::string id;
       for (char c : s.id) id += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';

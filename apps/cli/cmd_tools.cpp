@@ -107,7 +107,7 @@ void register_model(CLI::App& app) {
   build->add_option("-o,--output", *out, "model file to write (.npz)")->required();
   build->callback([=] {
     (void)kind;  // bound to the positional argument; kept alive by this capture
-    const Sex sex = parse_sex(*build_sex);
+    const Sex model_sex = parse_sex(*build_sex);
     std::vector<AnsurSubject> subjects;
     namespace fs = std::filesystem;
     std::vector<std::string> files;
@@ -129,7 +129,7 @@ void register_model(CLI::App& app) {
     po.threads = std::max(1u, std::thread::hardware_concurrency());
     po.progress = progress_bar("generating bodies");
     mannequin::PopulationReport rep;
-    BodyModel model = mannequin::build_mannequin_model(subjects, sex, po, &rep);
+    BodyModel model = mannequin::build_mannequin_model(subjects, model_sex, po, &rep);
     save_model(model, *out);
     std::cout << "built " << model.name() << " from " << rep.subjects << " subjects: " << model.vertex_count()
               << " vertices, K = " << model.shape_count() << " (" << std::fixed << std::setprecision(1)

@@ -10,11 +10,17 @@ namespace caliper {
 
 double signed_volume(const Vertices& vertices, const Faces& faces) {
   // Each face with the origin forms a tetrahedron; outward faces sum to the enclosed volume.
+  // Raw row-major storage: this loop runs for every corner body of the regressors (§3.4.3).
+  const double* v = vertices.data();
+  const std::int32_t* f = faces.data();
+  const Eigen::Index count = faces.rows();
   double six_volume = 0;
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const auto a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)), c = vertices.row(faces(f, 2));
-    six_volume += a(0) * (b(1) * c(2) - b(2) * c(1)) - a(1) * (b(0) * c(2) - b(2) * c(0)) +
-                  a(2) * (b(0) * c(1) - b(1) * c(0));
+  for (Eigen::Index i = 0; i < count; ++i, f += 3) {
+    const double* a = v + 3 * f[0];
+    const double* b = v + 3 * f[1];
+    const double* c = v + 3 * f[2];
+    six_volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                  a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
   return six_volume / 6.0;
 }
@@ -27,17 +33,20 @@ std::vector<std::vector<Eigen::Vector3d>> plane_section(const Vertices& vertices
   // an edge crossing and loops stay well-formed (a landmark vertex often lies on the plane).
   const Eigen::Index nv = vertices.rows();
   std::vector<double> d(static_cast<size_t>(nv));
-  for (Eigen::Index v = 0; v < nv; ++v) {
-    double s = (vertices.row(v).transpose() - point).dot(n);
+  const double* p = vertices.data();
+  const double offset = point.dot(n);
+  for (Eigen::Index v = 0; v < nv; ++v, p += 3) {
+    const double s = p[0] * n.x() + p[1] * n.y() + p[2] * n.z() - offset;
     d[static_cast<size_t>(v)] = s == 0.0 ? 1e-12 : s;
   }
   auto edge_key = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
   // Each crossed face gives one segment joining its two crossed edges. Sorted vectors instead of
   // hash maps: the cut touches a few hundred faces of many thousands, and order stays deterministic.
   std::vector<std::pair<std::uint64_t, std::uint64_t>> segments;
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const std::uint64_t v0 = static_cast<std::uint64_t>(faces(f, 0)), v1 = static_cast<std::uint64_t>(faces(f, 1)),
-                        v2 = static_cast<std::uint64_t>(faces(f, 2));
+  const std::int32_t* fp = faces.data();
+  for (Eigen::Index f = 0; f < faces.rows(); ++f, fp += 3) {
+    const std::uint64_t v0 = static_cast<std::uint64_t>(fp[0]), v1 = static_cast<std::uint64_t>(fp[1]),
+                        v2 = static_cast<std::uint64_t>(fp[2]);
     const bool s0 = d[v0] < 0, s1 = d[v1] < 0, s2 = d[v2] < 0;
     if (s0 == s1 && s1 == s2) continue;
     std::uint64_t crossed[2];

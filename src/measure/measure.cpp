@@ -22,11 +22,11 @@ Eigen::Vector3d axis_vector(Axis a) {
 // The section loop nearest the landmark: a horizontal cut at the thigh also cuts the other leg,
 // a cut across an arm may catch the hand; the landmark says which one is meant.
 std::vector<Eigen::Vector3d> nearest_loop(const BodyModel& model, const MeasurementDefinition& def,
-                                          const Vertices& rest) {
+                                          const Vertices& rest, const Faces& faces) {
   if (def.landmarks.empty())
     throw Error(ErrorKind::Format, "measurement '" + def.name + "' needs a landmark", def.name);
   const Eigen::Vector3d p = rest.row(model.landmark(def.landmarks[0])).transpose();
-  auto loops = plane_section(rest, model.faces(), p, axis_vector(def.plane_normal));
+  auto loops = plane_section(rest, faces, p, axis_vector(def.plane_normal));
   double best = std::numeric_limits<double>::infinity();
   size_t best_index = loops.size();
   for (size_t i = 0; i < loops.size(); ++i)
@@ -63,15 +63,17 @@ namespace {
 using SectionCache = std::map<std::pair<std::string, Axis>, std::vector<Eigen::Vector3d>>;
 
 const std::vector<Eigen::Vector3d>& cached_loop(const BodyModel& model, const MeasurementDefinition& def,
-                                                const Vertices& rest, SectionCache* cache, std::vector<Eigen::Vector3d>& own) {
-  if (!cache) return own = nearest_loop(model, def, rest);
+                                                const Vertices& rest, const Faces& faces, SectionCache* cache,
+                                                std::vector<Eigen::Vector3d>& own) {
+  if (!cache) return own = nearest_loop(model, def, rest, faces);
   const auto key = std::make_pair(def.landmarks.empty() ? std::string() : def.landmarks[0], def.plane_normal);
   auto it = cache->find(key);
-  if (it == cache->end()) it = cache->emplace(key, nearest_loop(model, def, rest)).first;
+  if (it == cache->end()) it = cache->emplace(key, nearest_loop(model, def, rest, faces)).first;
   return it->second;
 }
 
-double measure_with(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest, SectionCache* cache) {
+double measure_with(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
+                    const Faces& section_faces, SectionCache* cache) {
   std::vector<Eigen::Vector3d> own;
   switch (def.kind) {
     case MeasurementKind::Height: {
@@ -87,10 +89,10 @@ double measure_with(const BodyModel& model, const MeasurementDefinition& def, co
         total += (rest.row(model.landmark(def.landmarks[i])) - rest.row(model.landmark(def.landmarks[i - 1]))).norm();
       return total;
     }
-    case MeasurementKind::Breadth: return extent(cached_loop(model, def, rest, cache, own), 0);
-    case MeasurementKind::Depth: return extent(cached_loop(model, def, rest, cache, own), 2);
+    case MeasurementKind::Breadth: return extent(cached_loop(model, def, rest, section_faces, cache, own), 0);
+    case MeasurementKind::Depth: return extent(cached_loop(model, def, rest, section_faces, cache, own), 2);
     case MeasurementKind::Circumference: {
-      const auto& loop = cached_loop(model, def, rest, cache, own);
+      const auto& loop = cached_loop(model, def, rest, section_faces, cache, own);
       std::vector<Eigen::Vector2d> flat;
       flat.reserve(loop.size());
       for (const auto& q : loop) flat.push_back(in_plane(q, def.plane_normal));
@@ -107,13 +109,18 @@ double measure_with(const BodyModel& model, const MeasurementDefinition& def, co
 }  // namespace
 
 double measure(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest) {
-  return measure_with(model, def, rest, nullptr);
+  return measure_with(model, def, rest, model.faces(), nullptr);
+}
+
+double measure(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
+               const Faces& section_faces) {
+  return measure_with(model, def, rest, section_faces, nullptr);
 }
 
 std::map<std::string, double> measure_all(const BodyModel& model, const Vertices& rest) {
   std::map<std::string, double> out;
   SectionCache cache;
-  for (const auto& def : model.data().measurements) out[def.name] = measure_with(model, def, rest, &cache);
+  for (const auto& def : model.data().measurements) out[def.name] = measure_with(model, def, rest, model.faces(), &cache);
   return out;
 }
 
@@ -122,7 +129,7 @@ std::map<std::string, double> measure_some(const BodyModel& model, const std::ve
   std::map<std::string, double> out;
   SectionCache cache;
   for (const auto& name : names)
-    if (const MeasurementDefinition* def = model.find_measurement(name)) out[name] = measure_with(model, *def, rest, &cache);
+    if (const MeasurementDefinition* def = model.find_measurement(name)) out[name] = measure_with(model, *def, rest, model.faces(), &cache);
   return out;
 }
 

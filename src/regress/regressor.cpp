@@ -72,9 +72,36 @@ CornerDesign build_corner_design(const BodyModel& model, const std::vector<std::
     const Eigen::Index c = r ^ (r >> 1);
     for (int i = 0; i < k; ++i) design.betas(r, i) = (c >> i) & 1 ? 2.0 : -2.0;  // ±2 SD (paper §3.4.3)
   }
+  // Horizontal sections (hip breadth…) only need the faces the plane can cross at some corner:
+  // a vertex moves at most 2·Σ|S_k,y| vertically over the corners, and so does the landmark
+  // that places the plane. Cutting through that band of faces gives the same loops, faster.
+  const Eigen::MatrixXd& dirs = model.data().shape_directions;
+  std::vector<Faces> band(defs.size());
+  for (size_t m = 0; m < defs.size(); ++m) {
+    const auto& def = *defs[m];
+    const bool section = def.kind == MeasurementKind::Breadth || def.kind == MeasurementKind::Depth ||
+                         def.kind == MeasurementKind::Circumference;
+    if (!section || def.plane_normal != Axis::Y || def.landmarks.empty()) continue;
+    const Vertices& t = model.data().template_vertices;
+    auto reach = [&](Eigen::Index v) { return 2.0 * dirs.row(3 * v + 1).leftCols(k).cwiseAbs().sum() + 1e-3; };
+    const Eigen::Index l = model.landmark(def.landmarks[0]);
+    const double lo = t(l, 1) - reach(l), hi = t(l, 1) + reach(l);
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index f = 0; f < model.faces().rows(); ++f) {
+      double fmin = 1e300, fmax = -1e300;
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::Index v = model.faces()(f, c);
+        fmin = std::min(fmin, t(v, 1) - reach(v));
+        fmax = std::max(fmax, t(v, 1) + reach(v));
+      }
+      if (fmin <= hi && fmax >= lo) keep.push_back(f);
+    }
+    band[m].resize(static_cast<Eigen::Index>(keep.size()), 3);
+    for (size_t i = 0; i < keep.size(); ++i) band[m].row(static_cast<Eigen::Index>(i)) = model.faces().row(keep[i]);
+  }
   constexpr Eigen::Index kBlock = 64;
   const Eigen::Index blocks = (corners + kBlock - 1) / kBlock;
-  const Eigen::MatrixXd& directions = model.data().shape_directions;
+  const Eigen::MatrixXd& directions = dirs;
   std::atomic<Eigen::Index> next{0};
   std::vector<std::string> errors(2);
   auto worker = [&](int id) {
@@ -92,7 +119,9 @@ CornerDesign build_corner_design(const BodyModel& model, const std::vector<std::
           }
           for (size_t m = 0; m < defs.size(); ++m)
             design.features(r, static_cast<Eigen::Index>(m)) =
-                defs[m]->kind == MeasurementKind::Weight ? volume_feature(model, rest) : measure(model, *defs[m], rest);
+                defs[m]->kind == MeasurementKind::Weight ? volume_feature(model, rest)
+                : band[m].rows() > 0                     ? measure(model, *defs[m], rest, band[m])
+                                                         : measure(model, *defs[m], rest);
         }
       }
     } catch (const std::exception& e) {

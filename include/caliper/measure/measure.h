@@ -11,6 +11,10 @@ namespace caliper {
 // Value of one definition on rest vertices of `model` (N×3). SI units (m, kg).
 // Throws Error(Unsupported) if a section finds no loop (e.g. a landmark off the surface).
 double measure(const BodyModel& model, const MeasurementDefinition& definition, const Vertices& rest);
+// The same, cutting sections through `section_faces` only: a subset of the model's faces known
+// to contain every face the plane can cross (the regressors' corner design narrows it once).
+double measure(const BodyModel& model, const MeasurementDefinition& definition, const Vertices& rest,
+               const Faces& section_faces);
 
 // All of the model's measurements, by name, SI units.
 std::map<std::string, double> measure_all(const BodyModel& model, const Vertices& rest);
