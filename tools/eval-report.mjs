@@ -30,10 +30,10 @@ function barChart(sex, data) {
   // Held-out MAE (cm) per column, one bar per method.
   const methods = [...R, 'uniform'];
   const colours = { R2: '#9bb7d4', R4: '#5b8db8', R5: '#2f5f8a', R6: '#1a3550', uniform: '#d9a441' };
-  const W = 900, rowH = 26, top = 40, left = 190, H = top + heldOut.length * rowH + 40;
+  const W = 1000, rowH = 26, top = 40, left = 190, H = top + heldOut.length * rowH + 40;
   const max = Math.max(...heldOut.flatMap(c => methods.map(m => (m === 'uniform'
     ? data.baselines.uniform_scale.held_out[c].mae_cm : data.regressors[m].held_out[c].mae_cm))));
-  const scale = (W - left - 60) / max;
+  const scale = (W - left - 160) / max;
   let svg = `<svg xmlns="http://www.w3.org/2000/svg" width="${W}" height="${H}" font-family="sans-serif" font-size="12">`;
   svg += `<rect width="100%" height="100%" fill="white"/><text x="10" y="20" font-size="14">Held-out MAE (cm), ${sex}, ANSUR II development subset, no added noise</text>`;
   heldOut.forEach((c, i) => {
