@@ -10,29 +10,19 @@
 #include <functional>
 
 #include "caliper/errors.h"
+#include "temp_files.h"
 #include "caliper/io/model_files.h"
 #include "caliper/io/npz.h"
 
 using namespace caliper;
+using test::TempDir;
+using test::read_file;
+using test::write_file;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("caliper-model-files-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 // A regular octahedron (6 vertices, 8 outward faces) with two joints and two shape directions.
 // Values are chosen to be inexact in binary (0.1, 1/3…) so a lossy round trip would show.

@@ -11,9 +11,13 @@
 #include <limits>
 
 #include "caliper/errors.h"
+#include "temp_files.h"
 #include "caliper/io/npz.h"
 
 using namespace caliper;
+using test::TempDir;
+using test::read_file;
+using test::write_file;
 namespace fs = std::filesystem;
 
 namespace {
@@ -73,25 +77,7 @@ ErrorKind kind_of(const std::function<void()>& f) {
   return ErrorKind::Unsupported;
 }
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("caliper-npz-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-void write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
 
 }  // namespace
 

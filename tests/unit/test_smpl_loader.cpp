@@ -11,25 +11,19 @@
 #include <set>
 
 #include "caliper/errors.h"
+#include "temp_files.h"
 #include "caliper/io/model_files.h"
 #include "caliper/io/npz.h"
 #include "caliper/measure/catalogue.h"
 
 using namespace caliper;
+using test::TempDir;
+using test::read_file;
+using test::write_file;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    path = fs::temp_directory_path() / ("caliper-smpl-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
 
 // .npy bytes of `values` stored as `descr` (little-endian f4, f8, i4, i8 or u4).
 std::string encode(const std::string& descr, const std::vector<std::int64_t>& shape, const std::vector<double>& values) {
@@ -273,7 +267,7 @@ TEST(SmplLoader, JointNamesForEachFamily) {
   EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), 55u);
 
   Fixture own = smplx;
-  for (int i = 0; i < 55; ++i) own.joint_names.push_back("j" + std::to_string(i));
+  for (int i = 0; i < 55; ++i) own.joint_names.push_back(std::string("j").append(std::to_string(i)));
   EXPECT_EQ(load_smpl_model(own.write(dir)).data().joint_names, own.joint_names);
 
   Fixture odd;
