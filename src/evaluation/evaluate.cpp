@@ -98,8 +98,10 @@ void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Ver
   auto held_out_errors = [&](const std::map<std::string, double>& achieved, const std::vector<std::string>& used,
                              std::map<std::string, double>& errs) {
     for (const auto& [col, m] : held_out_columns()) {
+      // A file may lack some ANSUR columns: those comparisons are simply not counted (n says so).
       auto it = achieved.find(m);
-      errs[col] = it == achieved.end() ? NAN : it->second - s.values.at(col);
+      auto truth_it = s.values.find(col);
+      errs[col] = it == achieved.end() || truth_it == s.values.end() ? NAN : it->second - truth_it->second;
     }
     for (const auto& [canonical, key] : input_keys()) {
       if (std::find(used.begin(), used.end(), canonical) != used.end()) continue;
@@ -198,7 +200,8 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
       if (p.held_out.count(method)) for (const auto& [k, e] : p.held_out.at(method)) out[k].push_back(e);
     }
     for (const auto& [k, v] : in) me.inputs[k] = stats_of(v);
-    for (const auto& [k, v] : out) me.held_out[k] = stats_of(v);
+    for (const auto& [k, v] : out)
+      if (ErrorStats st = stats_of(v); st.count > 0) me.held_out[k] = st;  // columns the file lacks are left out
     me.implausible_share = built ? static_cast<double>(implausible) / built : 0;
     if (method.rfind("baseline:", 0) == 0) ev.baselines[method.substr(9)] = me;
     else ev.regressors[method] = me;

@@ -87,5 +87,17 @@ says "170.500" "ISAK mean value"
 expect 0 "render a PNG" "$CALIPER" render --sex female --height 165 --weight 60 -o "$TMP/a.png" --views front,side
 expect 0 "PNG signature" bash -c "head -c 8 '$TMP/a.png' | od -An -tx1 | grep -q '89 50 4e 47 0d 0a 1a 0a'"
 
+# Evaluation and batch on a small file that lacks most held-out columns.
+expect 0 "eval on a partial file" "$CALIPER" eval --subjects "$SRC/examples/people.csv" --json "$TMP/eval.json" -q
+expect 0 "eval JSON has inputs and only the held-out columns present" node -e '
+  const e = JSON.parse(require("fs").readFileSync(process.argv[1]));
+  const r5 = e.regressors.R5;
+  process.exit(e.subjects === 3 && r5.inputs.stature.mae_cm < 0.01 && "armlength" in r5.held_out &&
+               !("chestcircumference" in r5.held_out) && "uniform_scale" in e.baselines ? 0 : 1);' "$TMP/eval.json"
+expect 3 "eval with unknown noise" "$CALIPER" eval --subjects "$SRC/examples/people.csv" --noise loud
+expect 4 "eval on a missing file" "$CALIPER" eval --subjects /nonexistent.csv
+expect 0 "batch" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch"
+expect 0 "batch wrote an avatar and a report per row" bash -c "ls '$TMP/batch' | grep -c . | grep -qx 6"
+
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]
