@@ -30,6 +30,7 @@
 //    horizontal section at ANSUR's level, the gluteal furrow, would cut the torso.
 //  * Biceps and forearm girths use 0.9 × ANSUR's flexed values as relaxed girths (not targets).
 #include "caliper/mannequin/generator.h"
+#include "caliper/measure/geometry.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -152,29 +153,6 @@ Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
   return {x, z};
 }
 
-double hull_perimeter(std::vector<Eigen::Vector2d> p) {
-  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Eigen::Vector2d> h(2 * p.size());
-  size_t k = 0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
-    h[k++] = p[i];
-  }
-  for (size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
-    h[k++] = p[i];
-  }
-  h.resize(k - 1);
-  double per = 0;
-  for (size_t i = 0; i < h.size(); ++i) per += (h[(i + 1) % h.size()] - h[i]).norm();
-  return per;
-}
-
 std::vector<Eigen::Vector2d> torso_polygon(const TorsoRing& r) {
   std::vector<Eigen::Vector2d> pts(kTorsoN);
   for (int j = 0; j < kTorsoN; ++j) pts[static_cast<size_t>(j)] = torso_xz(r, 2 * kPi * j / kTorsoN);
@@ -216,7 +194,7 @@ double fit_torso_ring(TorsoRing& r, double breadth, double depth, double front_f
   auto perimeter_at = [&](double p, double d) {
     r.p = p;
     fit_depths(r, front_fraction * d, (1 - front_fraction) * d);
-    return hull_perimeter(torso_polygon(r));
+    return convex_hull_perimeter(torso_polygon(r));
   };
   double used_depth = depth;
   if (perimeter_at(p_max, depth) < circumference) {
@@ -257,7 +235,7 @@ Eigen::Vector2d leg_xz(const LegRing& r, double phi) {  // left leg: lateral = +
 void fit_leg_circumference(LegRing& r, double c) {
   std::vector<Eigen::Vector2d> pts(kLegN);
   for (int k = 0; k < kLegN; ++k) pts[static_cast<size_t>(k)] = leg_xz(r, leg_angle(k));
-  const double s = c / hull_perimeter(pts);
+  const double s = c / convex_hull_perimeter(pts);
   r.al *= s; r.am *= s; r.bf *= s; r.bb *= s; r.calf *= s;
 }
 
@@ -274,7 +252,7 @@ void fit_arm_circumference(ArmRing& r, double c) {
     const Vec3 v = arm_point(r, arm_angle(q));
     pts[static_cast<size_t>(q)] = {v.y(), v.z()};
   }
-  const double s = c / hull_perimeter(pts);
+  const double s = c / convex_hull_perimeter(pts);
   r.ry *= s;
   r.rz *= s;
 }
@@ -502,7 +480,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.y = y_nk;
     r.a = neck_r * 1.02; r.df = neck_r * 0.95; r.db = neck_r * 1.02; r.cz = -0.02 * sc; r.p = 2.2;
     std::vector<Eigen::Vector2d> pts = torso_polygon(r);
-    const double s = d.neckc / hull_perimeter(pts);
+    const double s = d.neckc / convex_hull_perimeter(pts);
     r.a *= s; r.df *= s; r.db *= s;
     TorsoRing s1 = K[kHoleTop], s2 = K[kHoleTop];
     const double dy = y_nk - y_acr;
