@@ -4,6 +4,7 @@
 #include <iostream>
 #include <sstream>
 #include <thread>
+#include <nlohmann/json.hpp>
 
 #include "caliper/evaluation/evaluate.h"
 #include "caliper/io/ansur.h"
@@ -81,34 +82,25 @@ void register_eval(CLI::App& app) {
     const auto subjects = read_ansur_csv(o->subjects);
     if (subjects.empty()) throw Error(ErrorKind::Format, "'" + o->subjects + "' has no subjects", "--subjects");
     const auto start = std::chrono::steady_clock::now();
-    const Evaluation ev = evaluate_subjects(subjects, builders_for(o->model), opt);
+    const auto builders = builders_for(o->model);  // one trained builder per sex, shared by the study below
+    const Evaluation ev = evaluate_subjects(subjects, builders, opt);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::string text = evaluation_json(ev);
+    nlohmann::ordered_json result = nlohmann::ordered_json::parse(evaluation_json(ev));
     if (*synthetic > 0) {
-      std::ostringstream syn;
-      syn << "{";
-      bool first_sex = true;
+      nlohmann::ordered_json study_json;
       for (Sex sex : {Sex::Female, Sex::Male}) {
-        auto builder = builders_for(o->model)(sex);
-        const auto study = synthetic_surface_study(*builder, opt.regressors, opt.noise, *synthetic, opt.seed);
-        syn << (first_sex ? "" : ",") << "\"" << to_string(sex) << "\":{";
-        first_sex = false;
-        bool first = true;
-        for (const auto& [r, s] : study) {
-          syn << (first ? "" : ",") << "\"" << r << "\":{\"mean_cm\":" << s.mean_cm << ",\"max_cm\":" << s.max_cm
-              << ",\"worst_cm\":" << s.worst_cm << "}";
-          first = false;
+        auto builder = builders(sex);
+        for (const auto& [r, st] : synthetic_surface_study(*builder, opt.regressors, opt.noise, *synthetic, opt.seed)) {
+          study_json[to_string(sex)][r] = {{"mean_cm", st.mean_cm}, {"max_cm", st.max_cm}, {"worst_cm", st.worst_cm}};
           if (!*quiet)
             std::cout << "synthetic " << to_string(sex) << " " << r << ": mean vertex distance " << std::fixed
-                      << std::setprecision(2) << s.mean_cm << " cm, mean max " << s.max_cm << " cm\n";
+                      << std::setprecision(2) << st.mean_cm << " cm, mean max " << st.max_cm << " cm\n";
         }
-        syn << "}";
       }
-      syn << "}";
-      // Splice the study into the JSON object: {"synthetic": {...}, ...rest}.
-      text = "{\n  \"synthetic\": " + syn.str() + ",\n  \"synthetic_bodies_per_sex\": " + std::to_string(*synthetic) + "," +
-             text.substr(text.find('{') + 1);
+      result["synthetic"] = study_json;
+      result["synthetic_bodies_per_sex"] = *synthetic;
     }
+    const std::string text = result.dump(2) + "\n";
     if (!*quiet) {
       std::cout << ev.subjects << " subjects, noise " << to_string(ev.noise) << ", " << std::fixed << std::setprecision(2)
                 << seconds << " s\n";
