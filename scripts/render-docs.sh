@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 bash scripts/build.sh >/dev/null
 c=build/bin/caliper
 mkdir -p docs/images
-size=(--image-width 520 --image-height 700)
+size=(--image-width 420 --image-height 700 --pose a)  # A-pose through the rig: the body fills the frame
 $c render --sex female --beta 0 -o docs/images/mannequin-mean-female.png "${size[@]}"
 $c render --sex male --beta 0 -o docs/images/mannequin-mean-male.png "${size[@]}"
 $c render --sex male --height 193 --weight 72 -o docs/images/mannequin-tall-thin.png "${size[@]}"

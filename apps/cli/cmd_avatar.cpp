@@ -67,11 +67,15 @@ void register_render(CLI::App& app) {
   auto width = std::make_shared<int>(480);
   auto height = std::make_shared<int>(800);
   auto mesh_file = std::make_shared<std::string>();
+  auto pose = std::make_shared<std::string>("t");
   CLI::App* cmd = app.add_subcommand("render", "Render an avatar (or an OBJ mesh) to a PNG picture, several views side by side");
   add_body_options(*cmd, *opts, true);
   cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
   cmd->add_option("-o,--output", *output, "output PNG file")->required();
   cmd->add_option("--views", *views, "views: front, side, back, three-quarter")->delimiter(',')->capture_default_str();
+  cmd->add_option("--pose", *pose, "t (rest pose, arms horizontal) or a (arms lowered 45°, posed by the rig's skinning)")
+      ->check(CLI::IsMember({"t", "a"}))
+      ->capture_default_str();
   cmd->add_option("--image-width", *width, "width of each view in pixels (64–4096)")->capture_default_str();
   cmd->add_option("--image-height", *height, "height of each view in pixels (64–4096)")->capture_default_str();
   cmd->callback([=] {
@@ -93,7 +97,9 @@ void register_render(CLI::App& app) {
       write_file(*output, render_views_png(m.vertices, m.faces, vs, ro));
     } else {
       BuiltAvatar built = build_avatar(*opts);
-      write_file(*output, render_views_png(built.avatar.rest_vertices, built.model->faces(), vs, ro));
+      const Vertices shown = *pose == "a" ? pose_vertices(*built.model, built.avatar.rest_vertices, a_pose(*built.model))
+                                          : built.avatar.rest_vertices;
+      write_file(*output, render_views_png(shown, built.model->faces(), vs, ro));
     }
     std::cout << "wrote " << *output << "\n";
   });

@@ -84,7 +84,7 @@ says "mannequin-female" "model list shows the built-in body"
 expect 0 "isak mean" "$CALIPER" isak 170 171
 says "mean_of_two" "ISAK rule is named"
 says "170.500" "ISAK mean value"
-expect 0 "render a PNG" "$CALIPER" render --sex female --height 165 --weight 60 -o "$TMP/a.png" --views front,side
+expect 0 "render a PNG" "$CALIPER" render --sex female --height 165 --weight 60 -o "$TMP/a.png" --views front,side --pose a
 expect 0 "PNG signature" bash -c "head -c 8 '$TMP/a.png' | od -An -tx1 | grep -q '89 50 4e 47 0d 0a 1a 0a'"
 
 # Evaluation and batch on a small file that lacks most held-out columns.
