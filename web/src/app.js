@@ -448,10 +448,16 @@ function renderTable(report) {
     // A real → virtual map (paper §3.3) turns e.g. a hanging-arm length into its rest-pose
     // equivalent; the regressor aims at that, so the difference is taken from it.
     const target = value(m, 'virtual_target');
-    const note = target === null ? '' : `<span class="note">rest-pose target ${fmt(target)} ${u} (§3.3 map)</span>`;
+    // For a mapped measurement that was not requested, show what a person would measure (the
+    // real equivalent), with the avatar's own rest-pose value in the note.
+    const real = value(m, 'real_equivalent');
+    const shownAch = req === null && real !== null ? real : ach;
+    const note = target !== null
+      ? `<span class="note">rest-pose target ${fmt(target)} ${u} (§3.3 map)</span>`
+      : req === null && real !== null ? `<span class="note">as measured on a person; ${fmt(ach)} ${u} in the rest pose (§3.3 map)</span>` : '';
     tr.innerHTML = `<td title="${state.info.get(name)?.label ?? name}">${friendly(name)}${note}</td>
       <td>${req === null ? '—' : `${fmt(req)} ${u}`}</td>
-      <td>${ach === null ? '—' : `${fmt(ach)} ${u}`}</td>
+      <td>${shownAch === null ? '—' : `${fmt(shownAch)} ${u}`}</td>
       <td class="delta ${dcls}">${diff === null ? '' : `${diff >= 0 ? '+' : '−'}${Math.abs(diff).toFixed(2)}`}</td>`;
     tbody.appendChild(tr);
   };
