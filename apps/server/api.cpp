@@ -136,16 +136,21 @@ struct BodyRequest {
   bool include_mesh = true;
 };
 
-ordered_json parse_json_body(const std::string& body) {
-  if (body.empty()) bad("the request body is empty; send a JSON object", "body");
+// Parses `text` as a JSON object; `what` names it in the 400 messages ("the request body").
+ordered_json parse_json_object(const std::string& text, const std::string& what) {
   ordered_json j;
   try {
-    j = ordered_json::parse(body);
+    j = ordered_json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    bad(std::string("the request body is not valid JSON: ") + e.what(), "body");
+    bad(what + " is not valid JSON: " + e.what(), "body");
   }
-  if (!j.is_object()) bad("the request body must be a JSON object", "body");
+  if (!j.is_object()) bad(what + " must be a JSON object", "body");
   return j;
+}
+
+ordered_json parse_json_body(const std::string& body) {
+  if (body.empty()) bad("the request body is empty; send a JSON object", "body");
+  return parse_json_object(body, "the request body");
 }
 
 std::string string_field(const ordered_json& j, const char* key, const std::string& fallback) {
@@ -232,13 +237,7 @@ void add_to_set(MeasurementSet& set, const std::string& name, double value, cons
 }
 
 MeasurementSet parse_set_json(const std::string& text) {
-  ordered_json j;
-  try {
-    j = ordered_json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    bad(std::string("the measurement set is not valid JSON: ") + e.what(), "body");
-  }
-  if (!j.is_object()) bad("a JSON measurement set must be an object", "body");
+  const ordered_json j = parse_json_object(text, "the measurement set");
   MeasurementSet set;
   if (j.contains("sex") && j["sex"].is_string()) set.sex = to_string(parse_sex(j["sex"].get<std::string>()));
   if (j.contains("model") && j["model"].is_string()) set.model = j["model"].get<std::string>();
