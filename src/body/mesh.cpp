@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <unordered_map>
 #include <vector>
 
@@ -81,6 +82,79 @@ MeshCheck check_mesh(const Faces& faces, std::int64_t vertex_count) {
   }
   result.manifold = fans_ok;
   return result;
+}
+
+
+namespace {
+
+// Does the segment p→q pass through the triangle abc (Möller–Trumbore, open segment)?
+bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                           const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d d = q - p, e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d h = d.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) < 1e-18) return false;  // parallel to the plane
+  const double inv = 1.0 / det;
+  const Eigen::Vector3d s = p - a;
+  const double u = inv * s.dot(h);
+  if (u < 0 || u > 1) return false;
+  const Eigen::Vector3d qv = s.cross(e1);
+  const double v = inv * d.dot(qv);
+  if (v < 0 || u + v > 1) return false;
+  const double t = inv * e2.dot(qv);
+  return t > 0 && t < 1;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::int32_t, std::int32_t>> self_intersections(const Vertices& vertices, const Faces& faces,
+                                                                      std::size_t max_pairs) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> hits;
+  const Eigen::Index nf = faces.rows();
+  if (nf == 0) return hits;
+  // Grid cell: about twice the mean face extent, so most faces touch a few cells.
+  Eigen::Vector3d lo = vertices.colwise().minCoeff().transpose(), hi = vertices.colwise().maxCoeff().transpose();
+  double mean_extent = 0;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    Eigen::Vector3d a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)), c = vertices.row(faces(f, 2));
+    mean_extent += (a.cwiseMax(b).cwiseMax(c) - a.cwiseMin(b).cwiseMin(c)).maxCoeff();
+  }
+  const double cell = std::max(1e-6, 2 * mean_extent / static_cast<double>(nf));
+  const Eigen::Vector3i dims = (((hi - lo) / cell).array().floor().cast<int>() + 1).matrix();
+  auto key = [&](int x, int y, int z) { return (static_cast<std::int64_t>(x) * dims.y() + y) * dims.z() + z; };
+  std::unordered_map<std::int64_t, std::vector<std::int32_t>> grid;
+  auto cells_of = [&](Eigen::Index f, auto&& visit) {
+    Eigen::Vector3d a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)), c = vertices.row(faces(f, 2));
+    const Eigen::Vector3i c0 = ((a.cwiseMin(b).cwiseMin(c) - lo) / cell).array().floor().cast<int>();
+    const Eigen::Vector3i c1 = ((a.cwiseMax(b).cwiseMax(c) - lo) / cell).array().floor().cast<int>();
+    for (int x = c0.x(); x <= c1.x(); ++x)
+      for (int y = c0.y(); y <= c1.y(); ++y)
+        for (int z = c0.z(); z <= c1.z(); ++z) visit(key(x, y, z));
+  };
+  for (Eigen::Index f = 0; f < nf; ++f) cells_of(f, [&](std::int64_t k) { grid[k].push_back(static_cast<std::int32_t>(f)); });
+  auto crosses = [&](Eigen::Index f, Eigen::Index g) {
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d p = vertices.row(faces(f, i)), q = vertices.row(faces(f, (i + 1) % 3));
+      if (segment_hits_triangle(p, q, vertices.row(faces(g, 0)), vertices.row(faces(g, 1)), vertices.row(faces(g, 2))))
+        return true;
+    }
+    return false;
+  };
+  std::vector<std::int32_t> seen_stamp(static_cast<size_t>(nf), -1);
+  for (Eigen::Index f = 0; f < nf && hits.size() < max_pairs; ++f) {
+    cells_of(f, [&](std::int64_t k) {
+      for (std::int32_t g : grid[k]) {
+        if (g <= f || seen_stamp[static_cast<size_t>(g)] == f || hits.size() >= max_pairs) continue;
+        seen_stamp[static_cast<size_t>(g)] = static_cast<std::int32_t>(f);
+        bool shared = false;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) shared = shared || faces(f, i) == faces(g, j);
+        if (shared) continue;
+        if (crosses(f, g) || crosses(g, f)) hits.emplace_back(static_cast<std::int32_t>(f), g);
+      }
+    });
+  }
+  return hits;
 }
 
 }  // namespace caliper

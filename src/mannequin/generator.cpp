@@ -17,9 +17,10 @@
 //    + radiale→stylion + hand length overshoots span/2 by ~9–10 cm. Span, biacromial breadth and
 //    hand length are exact; the upper arm and forearm are scaled by one common factor so the
 //    fingertips land at ±span/2 (the paper's real→virtual map, §3.3, handles arm length).
-//  * Iliocristale sits on a ring just above the navel ring; subjects whose iliac crest is below
-//    the navel get it clamped 3 mm above the navel. Buttock (gluteal furrow) height below the
-//    crotch is clamped just above it; axilla below chest height is clamped above it.
+//  * The iliac crest is a level at the body's side only: the rings between the hip and the
+//    under-bust rings are tilted at the sides (re-sampling the same surface) so the crest may lie
+//    above or below the navel. Buttock (gluteal furrow) height below the crotch is clamped just
+//    above it; axilla below chest height is clamped above it.
 //  * Where a circumference is larger than its breadth and depth allow with a plausible profile
 //    (superellipse exponent ≤ 4 for the chest, 5 elsewhere), breadth and circumference are kept and the depth grows. ANSUR
 //    chest circumference is large for its chest breadth × depth (C / ellipse perimeter 1.24 on
@@ -374,9 +375,14 @@ Vec3 mirror(const Vec3& p) { return {-p.x(), p.y(), p.z()}; }
 struct BodyPlan {  // everything the builder needs, derived from the dimensions
   std::vector<TorsoRing> torso;  // per ring
   std::vector<double> torso_tilt_side, torso_tilt_back;  // per ring: y offsets at the side / back (tilted low ring)
+  // Rings whose vertices take their shape from the torso profile at their own (tilted) height,
+  // so tilting them re-samples the same surface instead of bending it.
+  std::vector<bool> torso_resample;
+  std::vector<double> torso_pitch;  // per ring: y offset at the back, half of it at the sides (head rings)
+  std::function<TorsoRing(double)> torso_profile;  // ring parameters at any height
   std::vector<LegRing> leg;      // per ring index ≥ 1 (index 0 unused)
   std::vector<ArmRing> arm;      // per ring index ≥ 1
-  double bridge_z_front = 0, bridge_z_back = 0, crotch_y = 0;
+  double crotch_y = 0, crotch_z = 0;  // the crotch point, under the thighs' centres
   double dactylion_x = 0, arm_y = 0, arm_z = 0;
   double head_top = 0;
   double heel_z = 0, toe_z = 0;
@@ -398,8 +404,11 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   const double y_low_ref = std::min(y_tr, y_bh);
   const double y_hip = std::max(y_tr, y_bh) + 0.03 * sc;  // buttock circumference / hip breadth level
   const double y_w = std::max(d.wh, y_hip + 0.025);
-  const double y_ic = std::max(d.ilio, y_w + 0.003);
-  const double y_ch = std::max(d.chh, y_ic + 0.08);
+  // The iliac crest may lie above or below the navel (ANSUR: −5 to +8 cm). It is a level at the
+  // side of the body only: the iliocristale ring's front sits just above the waist ring and its
+  // sides are tilted to the crest (see the tilt below), so the crest can pass the navel.
+  const double y_ic_side = std::max(d.ilio, y_hip + 0.03);
+  const double y_ch = std::max(d.chh, std::max(y_w, y_ic_side) + 0.08);
   const double y_ax = std::max(d.axl, y_ch + 0.012);
   const double y_acr = std::max(d.acr, y_ax + 0.05);
   const double y_chin = d.S - 0.232 * hs;
@@ -409,23 +418,31 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   const double y_g = d.S - 0.52 * d.headl;
   const double y_nose = y_chin_c + 0.62 * (y_g - y_chin_c) ;
   const double y_mouth = y_chin_c + 0.3 * (y_g - y_chin_c);
-  const double y_us = y_ic + 0.55 * (y_ch - y_ic);
+  const double y_us_base = std::max(y_w, y_ic_side);
+  const double y_us = y_us_base + 0.55 * (y_ch - y_us_base);
+  const double y_ic = y_w + (y_us - y_w) / (1 + kTorsoIntervals[kIlio]);  // front of the iliocristale ring
 
   // -- Torso key rings.
   std::array<TorsoRing, kTorsoKeyCount> K{};
+  // Share of the buttock depth in front of the hip ring's centre. Buttocks protrude behind
+  // (0.41); when the navel is only a few centimetres above the hip ring (a low, full belly), the
+  // hip ring takes the waist ring's split (0.53) instead, or the body would shear forward
+  // between the two rings in a visible shelf.
+  const double waist_front = 0.53;
+  const double hip_front = std::lerp(waist_front, 0.41, std::clamp((y_w - y_hip) / (0.10 * sc), 0.0, 1.0));
   // Hip / buttock ring: hip breadth, buttock depth and circumference (buttocks protrude back).
   {
     TorsoRing& r = K[kHip];
     r.y = y_hip;
     r.cz = 0.0;
     r.glute = (0.010 + 0.010 * fem) * d.bd / 0.24;
-    fit_torso_ring(r, d.hb, d.bd, 0.41, d.bc, 1.7, 5.0);
+    fit_torso_ring(r, d.hb, d.bd, hip_front, d.bc, 1.7, 5.0);
   }
   {
     TorsoRing& r = K[kWaist];
     r.y = y_w;
     r.cz = -0.005;
-    fit_torso_ring(r, d.wb, d.wd, 0.53, d.wc, 1.7, 5.0);
+    fit_torso_ring(r, d.wb, d.wd, waist_front, d.wc, 1.7, 5.0);
   }
   {
     TorsoRing& r = K[kChest];
@@ -505,11 +522,14 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     K[kCervicale] = r;
     r.y = y_chin_c;
     r.cz = head_cz;
-    r.a = 0.6 * hb2; r.db = K[kNeck].db * 0.95 - (head_cz - K[kNeck].cz); r.df = 0.78 * hl2; r.p = 2.2;
+    // The head's centre sits forward of the neck's: the back radius grows by that offset so the back
+    // of the neck stays straight (a slight hollow only) up to the skull.
+    r.a = 0.6 * hb2; r.db = K[kNeck].db * 0.95 + (head_cz - K[kNeck].cz) - 0.01 * hs; r.df = 0.78 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
     K[kChin] = r;
     // The back of the neck runs up to the occiput; the skull bulges out only above it.
-    r.y = y_mouth; r.a = 0.78 * hb2; r.df = 0.84 * hl2; r.db = K[kNeck].db * 1.12 - (head_cz - K[kNeck].cz);
+    r.y = y_mouth; r.a = 0.78 * hb2; r.df = 0.84 * hl2;
+    r.db = 0.35 * (K[kNeck].db + (head_cz - K[kNeck].cz)) + 0.65 * 0.82 * hl2;
     r.chin = 0.004 * hs;
     K[kMouth] = r;
     r.y = y_nose; r.a = 0.92 * hb2; r.df = 0.86 * hl2; r.db = 0.82 * hl2; r.chin = 0; r.nose = 0.02 * hs;
@@ -534,12 +554,22 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   const MonotoneCurve ca(ky, ka), cdf(ky, kdf), cdb(ky, kdb), ccz(ky, kcz), cp(ky, kp), cglute(ky, kglute),
       cnose(ky, knose), cchin(ky, kchin);
   const double bust = K[kChest].bust;
-  const MonotoneCurve cbust({y_ic, y_ch - 0.085 * sc, y_ch - 0.045 * sc, y_ch, y_ch + 0.05 * sc, y_ax, y_acr},
+  const MonotoneCurve cbust({std::min(y_ic, y_ch - 0.1 * sc), y_ch - 0.085 * sc, y_ch - 0.045 * sc, y_ch, y_ch + 0.05 * sc, y_ax, y_acr},
                             {0, 0.05 * bust, 0.7 * bust, bust, 0.6 * bust, 0.25 * bust, 0});
   const int nt = torso_ring_count();
   P.torso.resize(static_cast<size_t>(nt));
   P.torso_tilt_side.assign(static_cast<size_t>(nt), 0.0);
   P.torso_tilt_back.assign(static_cast<size_t>(nt), 0.0);
+  P.torso_resample.assign(static_cast<size_t>(nt), false);
+  P.torso_pitch.assign(static_cast<size_t>(nt), 0.0);
+  const double bust_t = K[kChest].bust_t, bust_w = K[kChest].bust_w;
+  P.torso_profile = [=](double y) {
+    TorsoRing r;
+    r.y = y; r.a = ca(y); r.df = cdf(y); r.db = cdb(y); r.cz = ccz(y); r.p = cp(y);
+    r.bust = cbust(y); r.bust_t = bust_t; r.bust_w = bust_w;
+    r.glute = cglute(y); r.nose = cnose(y); r.chin = cchin(y);
+    return r;
+  };
   for (int key = 0; key + 1 < kTorsoKeyCount; ++key) {
     const int k0 = torso_key_ring(key), n = kTorsoIntervals[static_cast<size_t>(key)];
     for (int i = 0; i < n; ++i) {
@@ -565,6 +595,34 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       P.torso_tilt_back[static_cast<size_t>(k)] = (y_bh - y_low_ref) * fade;
     }
   }
+  // The iliac crest: the rings' sides rise evenly from the hip ring through the crest to the
+  // under-bust ring while their fronts keep their levels (the waist ring's front is the navel).
+  // The tilted rings re-sample the same profile, so horizontal sections (the waist's breadth,
+  // depth and girth at the navel) are those of the untilted surface.
+  {
+    const int kh = torso_key_ring(kHip), ki = torso_key_ring(kIlio), ku = torso_key_ring(kUnderBust);
+    for (int k = kh + 1; k < ku; ++k) {
+      const double side = k <= ki ? std::lerp(y_hip, y_ic_side, static_cast<double>(k - kh) / (ki - kh))
+                                  : std::lerp(y_ic_side, y_us, static_cast<double>(k - ki) / (ku - ki));
+      P.torso_tilt_side[static_cast<size_t>(k)] = side - P.torso[static_cast<size_t>(k)].y;
+      P.torso_resample[static_cast<size_t>(k)] = true;
+    }
+  }
+  // The lower head leans back: the rings from the chin to the nose pitch up behind, so the jaw
+  // runs from the chin up to the back of the skull and the back of the neck rises to the occiput
+  // (horizontal rings would leave the head on a flat shelf). The glabella ring, which carries the
+  // head's breadth, length and circumference, stays level; so does the cervicale ring's back.
+  {
+    const double span = y_g - y_chin_c;
+    const int kc = torso_key_ring(kCervicale), kch = torso_key_ring(kChin), kgl = torso_key_ring(kGlabella);
+    const std::array<std::pair<int, double>, 4> keys = {{{kc, 0.0}, {kch, 0.30 * span},
+                                                        {torso_key_ring(kMouth), 0.18 * span}, {torso_key_ring(kNose), 0.06 * span}}};
+    for (size_t i = 0; i < keys.size(); ++i) {
+      const int k0 = keys[i].first, k1 = i + 1 < keys.size() ? keys[i + 1].first : kgl;
+      const double p0 = keys[i].second, p1 = i + 1 < keys.size() ? keys[i + 1].second : 0.0;
+      for (int k = k0; k < k1; ++k) P.torso_pitch[static_cast<size_t>(k)] = std::lerp(p0, p1, static_cast<double>(k - k0) / (k1 - k0));
+    }
+  }
   // Dome: quarter-ellipse from the glabella ring to the vertex.
   P.head_top = d.S;
   for (int i = 1; i <= kDomeRings; ++i) {
@@ -577,8 +635,6 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     P.torso[static_cast<size_t>(kg + i)] = r;
   }
   P.crotch_y = y_cr;
-  P.bridge_z_front = K[kBottom].cz + 0.55 * K[kBottom].df;
-  P.bridge_z_back = K[kBottom].cz - 0.55 * K[kBottom].db;
 
   // -- Legs (left; the right leg mirrors it).
   {
@@ -604,7 +660,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       }
       r.xc = std::max(r.am + 0.004, half_hip - r.al * 1.02);
       // Centred under the middle of the hip section (buttocks protrude behind, not the thighs).
-      r.zc = K[kHip].cz + 0.5 * (0.41 - 0.59) * d.bd;
+      r.zc = K[kHip].cz + (hip_front - 0.5) * d.bd;
       // Just below the crotch the thigh still carries the hip's flesh: a fuller ring whose outer
       // side follows the hip line, so hips flow into thighs.
       LegRing& t = L[kLegTop];
@@ -650,26 +706,36 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       const LegRing& t = L[kLegTop];
       TorsoRing& b = P.torso[0];
       b.a = t.xc + t.al;
-      b.glute *= 0.5;
+      b.glute = 0;
       b.p = 2.4;
       // Depths such that, above the thigh's centre line (x = xc), the ring reaches the thigh's
       // front and back: there the superellipse is at |cos t|^(2/p) of its full depth.
       const double sn = std::pow(std::clamp(t.xc / b.a, 0.0, 0.95), b.p / 2);
       const double cf = std::pow(std::sqrt(1 - sn * sn), 2 / b.p);
-      b.df = std::max(0.02, (t.zc + t.bf - b.cz) / cf);
-      b.db = std::max(0.02, (b.cz - (t.zc - t.bb)) / cf);
-      // Rings between the bottom and the hip ring blend with zero slope at both ends (thighs below,
-      // the hip above), so the profile has no kink at either ring).
+      // Not deeper at the centre than the hip ring or the thighs themselves: a bottom ring that
+      // bulges past both neighbours reads as a band where hips meet thighs.
       const int kh = torso_key_ring(kHip);
       const TorsoRing& h = P.torso[static_cast<size_t>(kh)];
+      const double reach_front = t.zc + t.bf - b.cz, reach_back = b.cz - (t.zc - t.bb);
+      b.df = std::max(0.02, std::min(reach_front / cf, std::max(h.df, reach_front)));
+      b.db = std::max(0.02, std::min(reach_back / cf, std::max(h.db, reach_back)));
+      // The buttock cheeks end over the backs of the thighs (the gluteal fold), never in front
+      // of them: a thigh bulging out under the buttock reads as a band.
+      {
+        const double tb = kPi - std::asin(std::pow(std::clamp(t.xc / b.a, 0.0, 0.95), b.p / 2));
+        const double gap = (b.cz - b.db * cf) - (t.zc - t.bb) + 0.003;
+        const double bump = std::exp(-std::pow((tb - (kPi - 0.62)) / 0.42, 2));
+        b.glute = std::clamp(gap / bump, 0.0, h.glute);
+      }
+      // Rings between the bottom and the hip ring blend with zero slope at both ends (thighs below,
+      // the hip above), so the profile has no kink at either ring).
       for (int k = 1; k < kh; ++k) {
         TorsoRing& r = P.torso[static_cast<size_t>(k)];
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
         r.a = std::lerp(b.a, h.a, e); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e);
         r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e);
       }
-      P.bridge_z_front = b.cz + 0.55 * b.df;
-      P.bridge_z_back = b.cz - 0.55 * b.db;
+      P.crotch_z = std::clamp(t.zc, b.cz - 0.5 * b.db, b.cz + 0.5 * b.df);
     }
     // Foot rings: footprint outline growing from the ankle ring as y goes down. Stored as
     // LegRing with centre at the ball line; bf/bb = front/back lengths, al/am = half-widths.
@@ -811,10 +877,11 @@ void build(const BodyPlan& P, Builder& B) {
       // The right half is computed as the exact mirror of the left half.
       const int jj = j <= kTorsoN / 2 ? j : kTorsoN - j;
       const double t = 2 * kPi * jj / kTorsoN;
-      const auto q = torso_xz(r, t);
       const double s = std::sin(t), c = std::cos(t);
       const double y = r.y + P.torso_tilt_side[static_cast<size_t>(k)] * s * s +
-                       P.torso_tilt_back[static_cast<size_t>(k)] * std::max(0.0, -c) * std::max(0.0, -c);
+                       P.torso_tilt_back[static_cast<size_t>(k)] * std::max(0.0, -c) * std::max(0.0, -c) +
+                       P.torso_pitch[static_cast<size_t>(k)] * 0.5 * (1 - c);
+      const auto q = P.torso_resample[static_cast<size_t>(k)] ? torso_xz(P.torso_profile(y), t) : torso_xz(r, t);
       const double x = (jj == 0 || jj == kTorsoN / 2) ? 0.0 : (j == jj ? q.x() : -q.x());
       B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)] =
           B.add({x, y, q.y()}, Part::Torso, x == 0 ? 0 : (x > 0 ? 1 : -1));
@@ -835,14 +902,17 @@ void build(const BodyPlan& P, Builder& B) {
       }
     B.fan(B.torso.back(), B.head_pole, false);
   }
-  // Crotch bridge: from back to front along x = 0, dipping to the crotch level in the middle.
+  // Crotch bridge: along x = 0 from the bottom ring's back centre to its front centre, a
+  // half-ellipse dipping to the crotch, so the belly and the buttocks curve under into the
+  // crotch instead of ending in a flat shelf.
   const double y_bot = P.torso[0].y;
+  const double z_front = torso_xz(P.torso[0], 0).y(), z_back = torso_xz(P.torso[0], kPi).y();
   B.bridge.clear();
   for (int i = 0; i < kBridge; ++i) {
-    const double u = (i + 1.0) / (kBridge + 1.0);
-    const double w = std::pow(2 * u - 1, 2);
-    const double y = i == kBridge / 2 ? P.crotch_y : P.crotch_y + (y_bot - P.crotch_y) * w;
-    B.bridge.push_back(B.add({0, y, std::lerp(P.bridge_z_back, P.bridge_z_front, u)}, Part::Bridge, 0));
+    const double u = (i + 1.0) / (kBridge + 1.0), c = -std::cos(kPi * u);
+    const double y = i == kBridge / 2 ? P.crotch_y : P.crotch_y + (y_bot - P.crotch_y) * (1 - std::sin(kPi * u));
+    const double z = P.crotch_z + (c >= 0 ? z_front - P.crotch_z : P.crotch_z - z_back) * c;
+    B.bridge.push_back(B.add({0, y, z}, Part::Bridge, 0));
   }
   // Legs.
   const int nl = leg_ring_count();

@@ -100,3 +100,26 @@ TEST(Geometry, NormalsOfCubeCornerPointOutwards) {
     EXPECT_NEAR(n.row(v).norm(), 1.0, 1e-12);
   }
 }
+
+TEST(Geometry, ClosedCubeHasNoSelfIntersections) {
+  const Mesh cube = test::unit_cube();
+  EXPECT_TRUE(self_intersections(cube.vertices, cube.faces).empty());
+}
+
+TEST(Geometry, TwoCubesPushedIntoEachOtherIntersect) {
+  // Two unit cubes in one mesh, the second shifted by half a unit along x and a quarter along y:
+  // their side walls cross. Shifted by two units they are apart.
+  const Mesh cube = test::unit_cube();
+  auto two = [&](double dx, double dy) {
+    Mesh m;
+    m.vertices.resize(2 * cube.vertices.rows(), 3);
+    m.vertices << cube.vertices, cube.vertices.rowwise() + Eigen::RowVector3d(dx, dy, 0.1);
+    m.faces.resize(2 * cube.faces.rows(), 3);
+    m.faces << cube.faces, cube.faces.array() + static_cast<std::int32_t>(cube.vertices.rows());
+    return m;
+  };
+  const Mesh crossing = two(0.5, 0.25), apart = two(2.0, 0.0);
+  EXPECT_FALSE(self_intersections(crossing.vertices, crossing.faces).empty());
+  EXPECT_TRUE(self_intersections(apart.vertices, apart.faces).empty());
+  EXPECT_EQ(self_intersections(crossing.vertices, crossing.faces, 1).size(), 1u);
+}

