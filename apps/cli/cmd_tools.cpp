@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "caliper/makehuman/builder.h"
 #include "caliper/mannequin/population.h"
 #include "common.h"
 
@@ -97,10 +98,18 @@ void register_model(CLI::App& app) {
   auto out = std::make_shared<std::string>();
   auto components = std::make_shared<int>(10);
   auto build_sex = std::make_shared<std::string>("female");
-  CLI::App* build = cmd->add_subcommand("build", "Build a body model from data (kind: mannequin)");
+  auto assets = std::make_shared<std::string>();
+  auto max_subjects = std::make_shared<int>(makehuman::BuildOptions{}.max_subjects);
+  CLI::App* build = cmd->add_subcommand("build", "Build a body model from data (kind: mannequin or makehuman)");
   auto kind = std::make_shared<std::string>();
-  build->add_option("kind", *kind, "mannequin: Caliper's own body, one generated body per ANSUR II subject, then PCA")
-      ->required()->check(CLI::IsMember({"mannequin"}));
+  build->add_option("kind", *kind,
+                    "mannequin: Caliper's own body, one generated body per ANSUR II subject, then PCA; "
+                    "makehuman: MakeHuman's CC0 body fitted to each ANSUR II subject, then PCA (needs --assets)")
+      ->required()->check(CLI::IsMember({"mannequin", "makehuman"}));
+  build->add_option("--assets", *assets, "makehuman: folder of MakeHuman assets in MPFB2 layout (e.g. ../shared/data/makehuman)");
+  build->add_option("--subjects", *max_subjects,
+                    "makehuman: subjects fitted, evenly subsampled from the file (0 = all; fitting costs ~0.1 s per subject and core)")
+      ->capture_default_str();
   build->add_option("--ansur", *ansur, "folder with ANSUR_II_{FEMALE,MALE}*.csv, or one CSV file")->capture_default_str();
   build->add_option("--sex", *build_sex, "female, male or neutral (both sexes)")->capture_default_str();
   build->add_option("--components", *components, "shape directions kept, K (1–64)")->capture_default_str();
@@ -108,6 +117,8 @@ void register_model(CLI::App& app) {
   build->callback([=] {
     (void)kind;  // bound to the positional argument; kept alive by this capture
     const Sex model_sex = parse_sex(*build_sex);
+    if (*kind == "makehuman" && assets->empty())
+      throw Error(ErrorKind::InvalidArgument, "makehuman needs --assets DIR (a MakeHuman assets folder)", "--assets");
     std::vector<AnsurSubject> subjects;
     namespace fs = std::filesystem;
     std::vector<std::string> files;
@@ -123,6 +134,33 @@ void register_model(CLI::App& app) {
       auto part = read_ansur_csv(f);
       std::cerr << "read " << part.size() << " subjects from " << f << "\n";
       subjects.insert(subjects.end(), part.begin(), part.end());
+    }
+    if (*kind == "makehuman") {
+      std::cerr << "reading MakeHuman assets from " << *assets << "\n";
+      const makehuman::Assets mh = makehuman::load_assets(*assets);
+      for (const auto& p : mh.problems) std::cerr << "warning: target " << p.name << ": " << p.reason << "\n";
+      makehuman::BuildOptions mo;
+      mo.components = *components;
+      mo.max_subjects = *max_subjects;
+      mo.threads = std::max(1u, std::thread::hardware_concurrency());
+      mo.progress = progress_bar("fitting subjects");
+      makehuman::BuildReport rep;
+      BodyModel model = makehuman::build_makehuman_model(mh, subjects, model_sex, mo, &rep);
+      save_model(model, *out);
+      std::cout << "built " << model.name() << " from " << rep.subjects << " of " << rep.subjects_available
+                << " subjects: " << model.vertex_count() << " vertices, K = " << model.shape_count() << " ("
+                << std::fixed << std::setprecision(1) << rep.total_explained * 100 << " % of shape variance)\n"
+                << std::setprecision(2) << "weight from volume: fitted a = " << rep.fitted.a << ", b = " << rep.fitted.b
+                << " (MAE " << rep.weight_mae_fitted_kg << " kg); paper's CAESAR coefficients: MAE "
+                << rep.weight_mae_paper_kg << " kg, bias " << rep.weight_bias_paper_kg << " kg\n"
+                << "fit, mean |achieved - ANSUR|:";
+      for (const auto& [measurement, v] : rep.fit_mae)
+        std::cout << " " << measurement << " " << (measurement == "weight" ? v : v * 100) << (measurement == "weight" ? " kg;" : " cm;");
+      std::cout << "\njoint regressor vs the rig's joints: RMS " << rep.joint_rms_m * 1000 << " mm\n";
+      if (!rep.failed_subjects.empty())
+        std::cout << rep.failed_subjects.size() << " subjects could not be fitted (first: " << rep.failed_subjects.front() << ")\n";
+      std::cout << "wrote " << *out << "\n";
+      return;
     }
     mannequin::PopulationOptions po;
     po.components = *components;

@@ -27,6 +27,106 @@ Eigen::MatrixXd orthonormalize(const Eigen::MatrixXd& m) {
 
 }  // namespace
 
+PrincipalComponents principal_components(Eigen::MatrixXd& bodies, int k, std::uint64_t seed) {
+  const auto n = static_cast<int>(bodies.rows());
+  const Eigen::Index dim = bodies.cols();
+  if (k < 1 || n < k + 1) throw Error(ErrorKind::Format, "PCA needs at least k + 1 bodies", "subjects");
+  // PCA by a randomized range finder with power iterations (Halko, Martinsson & Tropp 2011):
+  // exact to double precision for the leading components of such a low-rank population, and
+  // far cheaper than the n×n Gram matrix.
+  PrincipalComponents out;
+  out.mean = bodies.colwise().mean();
+  bodies.rowwise() -= out.mean;
+  const int l = std::min(n, k + 12);
+  NormalGenerator normal(seed);
+  Eigen::MatrixXd omega(n, l);
+  for (Eigen::Index c = 0; c < omega.cols(); ++c)
+    for (Eigen::Index r = 0; r < omega.rows(); ++r) omega(r, c) = normal.normal();
+  Eigen::MatrixXd q = orthonormalize(bodies.transpose() * omega);  // dim × l
+  for (int it = 0; it < 4; ++it) q = orthonormalize(bodies.transpose() * orthonormalize(bodies * q));
+  const Eigen::MatrixXd b = bodies * q;  // n × l
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(b, Eigen::ComputeThinV);
+  const Eigen::MatrixXd directions = q * svd.matrixV();  // dim × l, unit columns
+  const double total_variance = bodies.squaredNorm() / (n - 1);
+  out.directions.resize(dim, k);
+  for (int c = 0; c < k; ++c) {
+    const double sd = svd.singularValues()(c) / std::sqrt(n - 1.0);
+    Eigen::VectorXd dir = directions.col(c);
+    // Fix the sign so builds are reproducible and "+β" reads as "more": the largest entry positive.
+    Eigen::Index arg = 0;
+    dir.cwiseAbs().maxCoeff(&arg);
+    if (dir(arg) < 0) dir = -dir;
+    out.directions.col(c) = dir * sd;  // β ~ N(0, I)
+    out.explained.push_back(sd * sd / total_variance);
+  }
+  return out;
+}
+
+WeightCalibration calibrate_weight_from_volume(const std::vector<double>& volumes, const std::vector<double>& weights,
+                                               Sex sex) {
+  const auto n = static_cast<int>(volumes.size());
+  if (n < 2 || weights.size() != volumes.size())
+    throw Error(ErrorKind::Format, "weight calibration needs at least 2 (volume, weight) pairs", "subjects");
+  Eigen::MatrixXd x(n, 2);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) {
+    x(i, 0) = volumes[static_cast<size_t>(i)];
+    x(i, 1) = 1.0;
+    y(i) = weights[static_cast<size_t>(i)];
+  }
+  const Eigen::Vector2d ab = x.colPivHouseholderQr().solve(y);
+  WeightCalibration out;
+  out.fitted = {ab(0), ab(1)};
+  const WeightFromVolume paper = WeightFromVolume::paper(sex);
+  for (int i = 0; i < n; ++i) {
+    out.mae_fitted_kg += std::abs(ab(0) * x(i, 0) + ab(1) - y(i)) / n;
+    const double p = paper.a * x(i, 0) + paper.b - y(i);
+    out.mae_paper_kg += std::abs(p) / n;
+    out.bias_paper_kg += p / n;
+  }
+  return out;
+}
+
+RealToVirtualFit fit_real_to_virtual(const BodyModel& provisional, const Eigen::MatrixXd& bodies,
+                                     const Eigen::RowVectorXd& mean, const std::vector<const AnsurSubject*>& subjects) {
+  const auto n = static_cast<int>(subjects.size());
+  const Eigen::Index vertex_count = provisional.vertex_count();
+  RealToVirtual maps;
+  std::ostringstream fits;
+  for (const auto& [name, real_of] : std::vector<std::pair<std::string, std::function<double(const AnsurSubject&)>>>{
+           {"span", [](const AnsurSubject& s) { return s.values.at("span"); }},
+           {"crotch_height", [](const AnsurSubject& s) { return s.values.at("crotchheight"); }},
+           {"hip_breadth", [](const AnsurSubject& s) { return s.values.at("hipbreadth"); }},
+           {"arm_length", [](const AnsurSubject& s) {
+              return s.values.at("acromionradialelength") + s.values.at("radialestylionlength");
+            }}}) {
+    const MeasurementDefinition* def = provisional.find_measurement(name);
+    if (!def) continue;
+    Eigen::MatrixXd xr(n, 2);
+    Eigen::VectorXd yv(n);
+    for (int i = 0; i < n; ++i) {
+      const Eigen::RowVectorXd body = bodies.row(i) + mean;
+      const Vertices v = Eigen::Map<const Vertices>(body.data(), vertex_count, 3);
+      xr(i, 0) = real_of(*subjects[static_cast<size_t>(i)]);
+      xr(i, 1) = 1.0;
+      yv(i) = measure(provisional, *def, v);
+    }
+    const Eigen::Vector2d fit = xr.colPivHouseholderQr().solve(yv);
+    const double rmse = std::sqrt((xr * fit - yv).squaredNorm() / n);
+    const double mean_gap = (yv - xr.col(0)).cwiseAbs().mean();
+    fits << name << ": virtual = " << fit(0) << " * real + " << fit(1) * 100 << " cm (rmse " << rmse * 100
+         << " cm, mean |virtual - real| " << mean_gap * 100 << " cm); ";
+    if (mean_gap < 0.002) continue;  // reproduced by construction: identity
+    LinearMap lm;
+    lm.slope = fit(0);
+    lm.offset = fit(1);
+    lm.pairs = n;
+    lm.rmse = rmse;
+    maps.set(name, lm);
+  }
+  return {maps.to_json(), fits.str()};
+}
+
 BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, const PopulationOptions& options,
                                 PopulationReport* report) {
   const int k = options.components;
@@ -63,40 +163,16 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
       throw Error(ErrorKind::Format, "subject " + subjects[static_cast<size_t>(i)]->id + ": " + errors[static_cast<size_t>(i)],
                   "subjects");
 
-  // PCA by a randomized range finder with power iterations (Halko, Martinsson & Tropp 2011):
-  // exact to double precision for the leading components of such a low-rank population, and
-  // far cheaper than the n×n Gram matrix.
-  const Eigen::RowVectorXd mean = bodies.colwise().mean();
-  bodies.rowwise() -= mean;
-  const int l = std::min(n, k + 12);
-  NormalGenerator normal(options.seed);
-  Eigen::MatrixXd omega(n, l);
-  for (Eigen::Index c = 0; c < omega.cols(); ++c)
-    for (Eigen::Index r = 0; r < omega.rows(); ++r) omega(r, c) = normal.normal();
-  Eigen::MatrixXd q = orthonormalize(bodies.transpose() * omega);  // dim × l
-  for (int it = 0; it < 4; ++it) q = orthonormalize(bodies.transpose() * orthonormalize(bodies * q));
-  const Eigen::MatrixXd b = bodies * q;  // n × l
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(b, Eigen::ComputeThinV);
-  const Eigen::MatrixXd directions = q * svd.matrixV();  // dim × l, unit columns
-  const double total_variance = bodies.squaredNorm() / (n - 1);
+  const PrincipalComponents pca = principal_components(bodies, k, options.seed);
+  const Eigen::RowVectorXd& mean = pca.mean;
 
   BodyModelData d;
   d.name = std::string("mannequin-") + to_string(sex);
   d.sex = sex;
   d.template_vertices = Eigen::Map<const Vertices>(mean.data(), topo.vertex_count, 3);
   d.faces = topo.faces;
-  d.shape_directions.resize(dim, k);
-  std::vector<double> explained;
-  for (int c = 0; c < k; ++c) {
-    const double sd = svd.singularValues()(c) / std::sqrt(n - 1.0);
-    Eigen::VectorXd dir = directions.col(c);
-    // Fix the sign so builds are reproducible and "+β" reads as "more": the largest entry positive.
-    Eigen::Index arg = 0;
-    dir.cwiseAbs().maxCoeff(&arg);
-    if (dir(arg) < 0) dir = -dir;
-    d.shape_directions.col(c) = dir * sd;  // β ~ N(0, I)
-    explained.push_back(sd * sd / total_variance);
-  }
+  d.shape_directions = pca.directions;
+  const std::vector<double>& explained = pca.explained;
   d.joint_regressor = topo.joint_regressor;
   d.joint_names = smpl_joint_names();
   d.parents = smpl_parents();
@@ -105,23 +181,12 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
   d.measurements = measurement_definitions();
 
   // weight = a·volume + b on the subjects' real weights (paper §3.4.2, here on ANSUR II).
-  Eigen::MatrixXd x(n, 2);
-  Eigen::VectorXd y(n);
-  for (int i = 0; i < n; ++i) {
-    x(i, 0) = volumes[static_cast<size_t>(i)];
-    x(i, 1) = 1.0;
-    y(i) = subjects[static_cast<size_t>(i)]->values.at("weightkg");
-  }
-  const Eigen::Vector2d ab = x.colPivHouseholderQr().solve(y);
-  d.weight_from_volume = {ab(0), ab(1)};
-  const WeightFromVolume paper = WeightFromVolume::paper(sex);
-  double mae_fit = 0, mae_paper = 0, bias_paper = 0;
-  for (int i = 0; i < n; ++i) {
-    mae_fit += std::abs(ab(0) * x(i, 0) + ab(1) - y(i)) / n;
-    const double p = paper.a * x(i, 0) + paper.b - y(i);
-    mae_paper += std::abs(p) / n;
-    bias_paper += p / n;
-  }
+  std::vector<double> weights(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) weights[static_cast<size_t>(i)] = subjects[static_cast<size_t>(i)]->values.at("weightkg");
+  const WeightCalibration cal = calibrate_weight_from_volume(volumes, weights, sex);
+  d.weight_from_volume = cal.fitted;
+  const Eigen::Vector2d ab(cal.fitted.a, cal.fitted.b);
+  const double mae_fit = cal.mae_fitted_kg, mae_paper = cal.mae_paper_kg, bias_paper = cal.bias_paper_kg;
   double total_explained = 0;
   for (double e : explained) total_explained += e;
 
@@ -140,42 +205,9 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
   // the generated body differs systematically from the real one (e.g. arm length: ANSUR measures
   // it with the arm hanging, the avatar stands in a T-pose). Fitted on these same bodies.
   {
-    BodyModel provisional{BodyModelData(d)};
-    RealToVirtual maps;
-    std::ostringstream fits;
-    for (const auto& [name, real_of] : std::vector<std::pair<std::string, std::function<double(const AnsurSubject&)>>>{
-             {"span", [](const AnsurSubject& s) { return s.values.at("span"); }},
-             {"crotch_height", [](const AnsurSubject& s) { return s.values.at("crotchheight"); }},
-             {"hip_breadth", [](const AnsurSubject& s) { return s.values.at("hipbreadth"); }},
-             {"arm_length", [](const AnsurSubject& s) {
-                return s.values.at("acromionradialelength") + s.values.at("radialestylionlength");
-              }}}) {
-      const MeasurementDefinition* def = provisional.find_measurement(name);
-      if (!def) continue;
-      Eigen::MatrixXd xr(n, 2);
-      Eigen::VectorXd yv(n);
-      for (int i = 0; i < n; ++i) {
-        const Eigen::RowVectorXd body = bodies.row(i) + mean;
-        const Vertices v = Eigen::Map<const Vertices>(body.data(), topo.vertex_count, 3);
-        xr(i, 0) = real_of(*subjects[static_cast<size_t>(i)]);
-        xr(i, 1) = 1.0;
-        yv(i) = measure(provisional, *def, v);
-      }
-      const Eigen::Vector2d fit = xr.colPivHouseholderQr().solve(yv);
-      const double rmse = std::sqrt((xr * fit - yv).squaredNorm() / n);
-      const double mean_gap = (yv - xr.col(0)).cwiseAbs().mean();
-      fits << name << ": virtual = " << fit(0) << " * real + " << fit(1) * 100 << " cm (rmse " << rmse * 100
-           << " cm, mean |virtual - real| " << mean_gap * 100 << " cm); ";
-      if (mean_gap < 0.002) continue;  // reproduced by construction: identity
-      LinearMap lm;
-      lm.slope = fit(0);
-      lm.offset = fit(1);
-      lm.pairs = n;
-      lm.rmse = rmse;
-      maps.set(name, lm);
-    }
-    d.metadata["real_to_virtual"] = maps.to_json();
-    d.metadata["real_to_virtual_fits"] = fits.str();
+    const RealToVirtualFit r2v = fit_real_to_virtual(BodyModel{BodyModelData(d)}, bodies, mean, subjects);
+    d.metadata["real_to_virtual"] = r2v.maps_json;
+    d.metadata["real_to_virtual_fits"] = r2v.fits;
   }
   if (report) {
     report->subjects = n;

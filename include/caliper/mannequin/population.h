@@ -2,6 +2,8 @@
 // subject, PCA over their vertices, K directions scaled so β ~ N(0, I), and volume → weight
 // calibrated on the same subjects (paper §3.4.2's linear fit, redone on ANSUR).
 #pragma once
+#include <Eigen/Core>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -27,6 +29,38 @@ struct PopulationReport {
   double weight_mae_paper_kg = 0;            // same with the paper's CAESAR coefficients
   double weight_bias_paper_kg = 0;           // mean (paper prediction − ANSUR weight)
 };
+
+// Shared by every population-built model (the built-in body, the MakeHuman builder):
+// PCA of row-stacked bodies (n × 3N, row-major vertices flattened) by a randomized range finder;
+// `bodies` is centred in place. Directions are scaled by their standard deviation (β ~ N(0, I))
+// and sign-fixed (largest entry positive) so builds are reproducible.
+struct PrincipalComponents {
+  Eigen::RowVectorXd mean;          // 1 × 3N
+  Eigen::MatrixXd directions;       // 3N × k, column c = unit direction · its standard deviation
+  std::vector<double> explained;    // share of total variance per kept component
+};
+PrincipalComponents principal_components(Eigen::MatrixXd& bodies, int k, std::uint64_t seed);
+
+// weight = a·volume + b fitted by least squares on the subjects (paper §3.4.2), with the MAE of
+// the fit and of the paper's CAESAR coefficients for `sex`.
+struct WeightCalibration {
+  WeightFromVolume fitted;
+  double mae_fitted_kg = 0, mae_paper_kg = 0, bias_paper_kg = 0;
+};
+WeightCalibration calibrate_weight_from_volume(const std::vector<double>& volumes_m3, const std::vector<double>& weights_kg,
+                                               Sex sex);
+
+// Real → virtual maps (paper §3.3) for span, crotch height, hip breadth and arm length, fitted
+// on a population's bodies (`bodies` centred, row i + `mean` = subject i's rest vertices,
+// flattened) against the subjects' ANSUR values. A map is kept where the model misses the real
+// value by 2 mm or more on average. Returns the maps' JSON (metadata "real_to_virtual") and a
+// line of fit statistics (metadata "real_to_virtual_fits").
+struct RealToVirtualFit {
+  std::string maps_json;
+  std::string fits;
+};
+RealToVirtualFit fit_real_to_virtual(const BodyModel& provisional, const Eigen::MatrixXd& bodies,
+                                     const Eigen::RowVectorXd& mean, const std::vector<const AnsurSubject*>& subjects);
 
 // Builds the model for `sex` from the subjects of that sex (Neutral: all subjects, each body
 // generated with its own sex). Throws Error(Format) if fewer than K+1 subjects qualify.

@@ -1,0 +1,416 @@
+// Readers for MakeHuman's CC0 assets (MPFB2 layout). Written from the format facts in the
+// assets' README and the files themselves; no MakeHuman/MPFB2 code was read.
+#include "caliper/makehuman/assets.h"
+
+#include <zlib.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "caliper/errors.h"
+
+namespace caliper::makehuman {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kDecimetre = 0.1;  // hm08 units → metres
+
+std::string read_text(const fs::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error(ErrorKind::Io, "cannot open '" + path.string() + "'", path.string());
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+nlohmann::json read_json(const fs::path& path) {
+  const std::string text = read_text(path);
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(ErrorKind::Format, path.string() + ": not valid JSON (" + e.what() + ")", path.string());
+  }
+}
+
+std::string gunzip(const std::string& path) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  if (!f) throw Error(ErrorKind::Io, "cannot open '" + path + "'", path);
+  std::string out;
+  char buf[1 << 16];
+  int n = 0;
+  while ((n = gzread(f, buf, sizeof buf)) > 0) out.append(buf, static_cast<size_t>(n));
+  int code = Z_OK;
+  const char* message = gzerror(f, &code);
+  const std::string what = message ? message : "";
+  const bool plain = gzdirect(f) == 1;
+  gzclose(f);
+  if (n < 0 || (code != Z_OK && code != Z_STREAM_END))
+    throw Error(ErrorKind::Format, path + ": damaged gzip stream (" + what + ")", path);
+  if (plain && !out.empty()) throw Error(ErrorKind::Format, path + ": not a gzip file", path);
+  return out;
+}
+
+// Whitespace-separated fields of one line, as views into `line`.
+std::vector<std::string_view> fields(std::string_view line) {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    if (j > i) out.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+bool parse_number(std::string_view s, double& v) {
+  // from_chars rejects a leading '+'; targets never write one but be lenient.
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  return ec == std::errc() && p == s.data() + s.size() && std::isfinite(v);
+}
+
+bool parse_int(std::string_view s, long& v) {
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  return ec == std::errc() && p == s.data() + s.size();
+}
+
+std::string stem_of_target(const fs::path& p) {
+  std::string name = p.filename().string();
+  const std::string suffix = ".target.gz";
+  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    name.resize(name.size() - suffix.size());
+  return name;
+}
+
+void require_dir(const fs::path& p, const std::string& what) {
+  std::error_code ec;
+  if (!fs::is_directory(p, ec))
+    throw Error(ErrorKind::Io,
+                "'" + p.string() + "' is not a folder: expected " + what +
+                    " (a MakeHuman assets folder in MPFB2 layout has 3dobjs/, mesh_metadata/, targets/, rigs/)",
+                "--assets");
+}
+
+}  // namespace
+
+Target read_target(const std::string& path, int vertex_count) {
+  Target t;
+  t.path = path;
+  t.name = stem_of_target(path);
+  const std::string text = gunzip(path);
+  size_t start = 0;
+  int line_no = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view line(text.data() + start, end - start);
+    start = end + 1;
+    ++line_no;
+    const auto f = fields(line);
+    if (f.empty() || f[0].front() == '#') continue;
+    auto bad = [&](const std::string& what) {
+      throw Error(ErrorKind::Format, path + ": line " + std::to_string(line_no) + ": " + what, t.name);
+    };
+    if (f.size() != 4) bad("expected 'index dx dy dz', got " + std::to_string(f.size()) + " fields");
+    long index = 0;
+    if (!parse_int(f[0], index)) bad("vertex index '" + std::string(f[0]) + "' is not an integer");
+    if (index < 0 || index >= vertex_count)
+      bad("vertex index " + std::to_string(index) + " outside [0, " + std::to_string(vertex_count) + ")");
+    Eigen::Vector3f d;
+    for (int c = 0; c < 3; ++c) {
+      double v = 0;
+      if (!parse_number(f[static_cast<size_t>(c) + 1], v)) bad("'" + std::string(f[static_cast<size_t>(c) + 1]) + "' is not a finite number");
+      d(c) = static_cast<float>(v * kDecimetre);
+    }
+    t.indices.push_back(static_cast<int>(index));
+    t.deltas.push_back(d);
+  }
+  return t;
+}
+
+BaseMesh read_base_mesh(const std::string& dir) {
+  const fs::path root(dir);
+  require_dir(root, "an assets folder");
+  const fs::path obj = root / "3dobjs" / "base.obj";
+  const std::string text = read_text(obj);
+  BaseMesh m;
+  std::vector<double> xyz;
+  std::vector<std::array<int, 3>> tris;
+  size_t start = 0;
+  int line_no = 0;
+  auto bad = [&](const std::string& what) {
+    throw Error(ErrorKind::Format, obj.string() + ": line " + std::to_string(line_no) + ": " + what, "base.obj");
+  };
+  std::vector<std::vector<long>> polygons;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view line(text.data() + start, end - start);
+    start = end + 1;
+    ++line_no;
+    const auto f = fields(line);
+    if (f.empty()) continue;
+    if (f[0] == "v") {
+      if (f.size() < 4) bad("a vertex needs 3 coordinates");
+      for (int c = 1; c <= 3; ++c) {
+        double v = 0;
+        if (!parse_number(f[static_cast<size_t>(c)], v)) bad("'" + std::string(f[static_cast<size_t>(c)]) + "' is not a finite number");
+        xyz.push_back(v * kDecimetre);
+      }
+    } else if (f[0] == "f") {
+      if (f.size() < 4) bad("a face needs at least 3 vertices");
+      std::vector<long> poly;
+      for (size_t k = 1; k < f.size(); ++k) {
+        const std::string_view idx = f[k].substr(0, f[k].find('/'));
+        long v = 0;
+        if (!parse_int(idx, v) || v < 1) bad("face vertex '" + std::string(f[k]) + "' is not a positive index");
+        poly.push_back(v - 1);
+      }
+      polygons.push_back(std::move(poly));
+    }
+  }
+  const long n = static_cast<long>(xyz.size() / 3);
+  if (n < kBodyVertexCount)
+    throw Error(ErrorKind::Format, obj.string() + ": has " + std::to_string(n) + " vertices, hm08 has at least " +
+                                       std::to_string(kBodyVertexCount), "base.obj");
+  m.vertices = Eigen::Map<const Vertices>(xyz.data(), n, 3);
+  // Body faces are those using body vertices only; quads are split along their first diagonal.
+  for (const auto& poly : polygons) {
+    for (long v : poly)
+      if (v >= n) throw Error(ErrorKind::Format, obj.string() + ": face vertex " + std::to_string(v + 1) + " beyond the vertex list", "base.obj");
+    if (*std::max_element(poly.begin(), poly.end()) >= kBodyVertexCount) continue;
+    for (size_t k = 1; k + 1 < poly.size(); ++k)
+      tris.push_back({static_cast<int>(poly[0]), static_cast<int>(poly[k]), static_cast<int>(poly[k + 1])});
+  }
+  m.body_faces.resize(static_cast<Eigen::Index>(tris.size()), 3);
+  for (size_t i = 0; i < tris.size(); ++i)
+    m.body_faces.row(static_cast<Eigen::Index>(i)) << tris[i][0], tris[i][1], tris[i][2];
+  const MeshCheck check = check_mesh(m.body_faces, kBodyVertexCount);
+  if (!check.closed || !check.manifold || !check.consistently_oriented || check.unused_vertices)
+    throw Error(ErrorKind::Format,
+                obj.string() + ": the body (vertices 0–" + std::to_string(kBodyVertexCount - 1) +
+                    ") is not a closed, manifold, consistently oriented surface (" + std::to_string(check.boundary_edges) +
+                    " boundary edges, " + std::to_string(check.nonmanifold_edges) + " non-manifold edges, " +
+                    std::to_string(check.unused_vertices) + " unused vertices)",
+                "base.obj");
+  // Outward orientation: the enclosed volume must come out positive.
+  double volume = 0;
+  const Vertices body = m.vertices.topRows(kBodyVertexCount);
+  for (Eigen::Index f = 0; f < m.body_faces.rows(); ++f)
+    volume += body.row(m.body_faces(f, 0)).dot(body.row(m.body_faces(f, 1)).cross(body.row(m.body_faces(f, 2)))) / 6;
+  if (volume < 0) m.body_faces.col(1).swap(m.body_faces.col(2));
+
+  const fs::path groups_path = root / "mesh_metadata" / "basemesh_vertex_groups.json";
+  const nlohmann::json groups = read_json(groups_path);
+  if (!groups.is_object()) throw Error(ErrorKind::Format, groups_path.string() + ": expected an object", "vertex_groups");
+  for (const auto& [name, ranges] : groups.items()) {
+    std::vector<int>& out = m.groups[name];
+    if (!ranges.is_array()) throw Error(ErrorKind::Format, groups_path.string() + ": group '" + name + "' is not a list", name);
+    for (const auto& r : ranges) {
+      if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
+        throw Error(ErrorKind::Format, groups_path.string() + ": group '" + name + "' has a range that is not [first, last]", name);
+      const long a = r[0].get<long>(), b = r[1].get<long>();
+      if (a < 0 || b < a || b >= n)
+        throw Error(ErrorKind::Format, groups_path.string() + ": group '" + name + "' range out of [0, " + std::to_string(n) + ")", name);
+      for (long v = a; v <= b; ++v) out.push_back(static_cast<int>(v));
+    }
+  }
+
+  const fs::path mirror_path = root / "mesh_metadata" / "hm08.mirror";
+  const std::string mirror_text = read_text(mirror_path);
+  m.mirror.assign(static_cast<size_t>(n), -1);
+  std::istringstream in(mirror_text);
+  std::string line;
+  line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto f = fields(line);
+    if (f.empty()) continue;
+    long a = 0, b = 0;
+    if (f.size() < 2 || !parse_int(f[0], a) || !parse_int(f[1], b) || a < 0 || b < 0 || a >= n || b >= n)
+      throw Error(ErrorKind::Format, mirror_path.string() + ": line " + std::to_string(line_no) + ": expected 'index mirror side'",
+                  "hm08.mirror");
+    m.mirror[static_cast<size_t>(a)] = static_cast<int>(b);
+  }
+  for (long v = 0; v < kBodyVertexCount; ++v)
+    if (m.mirror[static_cast<size_t>(v)] < 0)
+      throw Error(ErrorKind::Format, mirror_path.string() + ": body vertex " + std::to_string(v) + " has no mirror", "hm08.mirror");
+  return m;
+}
+
+int Rig::bone_index(const std::string& name) const {
+  for (size_t i = 0; i < bones.size(); ++i)
+    if (bones[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+Rig read_rig(const std::string& dir, const BaseMesh& mesh, const std::string& name) {
+  const fs::path rig_path = fs::path(dir) / "rigs" / "standard" / ("rig." + name + ".json");
+  const fs::path weights_path = fs::path(dir) / "rigs" / "standard" / ("weights." + name + ".json");
+  const nlohmann::json rig = read_json(rig_path);
+  const nlohmann::json weights = read_json(weights_path);
+  const int n = static_cast<int>(mesh.vertices.rows());
+  auto joint = [&](const nlohmann::json& j, const std::string& bone) {
+    auto bad = [&](const std::string& what) {
+      throw Error(ErrorKind::Format, rig_path.string() + ": bone '" + bone + "': " + what, bone);
+    };
+    if (!j.is_object() || !j.contains("strategy")) bad("joint without a strategy");
+    const std::string strategy = j["strategy"].get<std::string>();
+    std::vector<int> out;
+    if (strategy == "CUBE") {
+      const std::string cube = j.value("cube_name", "");
+      auto it = mesh.groups.find(cube);
+      if (it == mesh.groups.end() || it->second.empty()) bad("unknown joint cube '" + cube + "'");
+      out = it->second;
+    } else if (strategy == "VERTEX") {
+      if (!j.contains("vertex_index") || !j["vertex_index"].is_number_integer()) bad("VERTEX joint without vertex_index");
+      out.push_back(j["vertex_index"].get<int>());
+    } else if (strategy == "MEAN") {
+      if (!j.contains("vertex_indices") || !j["vertex_indices"].is_array()) bad("MEAN joint without vertex_indices");
+      for (const auto& v : j["vertex_indices"]) out.push_back(v.get<int>());
+    } else {
+      bad("unknown joint strategy '" + strategy + "'");
+    }
+    for (int v : out)
+      if (v < 0 || v >= n) bad("joint vertex " + std::to_string(v) + " out of range");
+    if (out.empty()) bad("joint without vertices");
+    return out;
+  };
+  Rig r;
+  if (!rig.is_object() || rig.empty()) throw Error(ErrorKind::Format, rig_path.string() + ": no bones", "rig");
+  // Order bones so parents come first (the file is alphabetical).
+  std::vector<std::string> pending;
+  for (const auto& [bone, def] : rig.items()) pending.push_back(bone);
+  while (!pending.empty()) {
+    bool progressed = false;
+    for (auto it = pending.begin(); it != pending.end();) {
+      const nlohmann::json& def = rig[*it];
+      const std::string parent = def.value("parent", "");
+      if (parent.empty() || r.bone_index(parent) >= 0) {
+        r.bones.push_back({*it, parent, joint(def["head"], *it), joint(def["tail"], *it)});
+        it = pending.erase(it);
+        progressed = true;
+      } else {
+        ++it;
+      }
+    }
+    if (!progressed) throw Error(ErrorKind::Format, rig_path.string() + ": bone '" + pending.front() + "' has a missing or cyclic parent", pending.front());
+  }
+  if (!weights.contains("weights") || !weights["weights"].is_object())
+    throw Error(ErrorKind::Format, weights_path.string() + ": no 'weights' object", "weights");
+  r.weights.assign(static_cast<size_t>(n), {});
+  for (const auto& [bone, list] : weights["weights"].items()) {
+    const int b = r.bone_index(bone);
+    if (b < 0) throw Error(ErrorKind::Format, weights_path.string() + ": weights for unknown bone '" + bone + "'", bone);
+    for (const auto& e : list) {
+      if (!e.is_array() || e.size() != 2 || !e[0].is_number_integer() || !e[1].is_number())
+        throw Error(ErrorKind::Format, weights_path.string() + ": bone '" + bone + "': entry is not [vertex, weight]", bone);
+      const int v = e[0].get<int>();
+      const double w = e[1].get<double>();
+      if (v < 0 || v >= n || !std::isfinite(w) || w < 0)
+        throw Error(ErrorKind::Format, weights_path.string() + ": bone '" + bone + "': bad entry for vertex " + std::to_string(v), bone);
+      if (w > 0) r.weights[static_cast<size_t>(v)].push_back({b, static_cast<float>(w)});
+    }
+  }
+  for (int v = 0; v < n; ++v) {
+    auto& ws = r.weights[static_cast<size_t>(v)];
+    double s = 0;
+    for (const auto& [b, w] : ws) s += w;
+    if (s <= 0) {
+      if (v < kBodyVertexCount)
+        throw Error(ErrorKind::Format, weights_path.string() + ": body vertex " + std::to_string(v) + " has no weights", "weights");
+      continue;
+    }
+    for (auto& bw : ws) bw.second = static_cast<float>(bw.second / s);
+  }
+  return r;
+}
+
+Assets load_assets(const std::string& dir, const LoadOptions& options) {
+  const fs::path root(dir);
+  require_dir(root, "a MakeHuman assets folder");
+  for (const char* sub : {"3dobjs", "mesh_metadata", "targets/macrodetails", "rigs/standard"})
+    require_dir(root / sub, std::string("its ") + sub + " folder");
+  Assets a;
+  a.dir = dir;
+  a.mesh = read_base_mesh(dir);
+  a.rig = read_rig(dir, a.mesh);
+  const int n = static_cast<int>(a.mesh.vertices.rows());
+
+  // Macro targets by family: a family's members share a folder and a name pattern.
+  struct Family {
+    fs::path folder;
+    std::function<bool(const std::string&)> member;
+  };
+  auto starts = [](const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; };
+  const fs::path macro = root / "targets" / "macrodetails";
+  const std::vector<Family> families = {
+      {macro, [&](const std::string& s) { return !starts(s, "universal-"); }},  // race-gender-age
+      {macro, [&](const std::string& s) { return starts(s, "universal-"); }},   // gender-age-muscle-weight
+      {macro / "height", [](const std::string&) { return true; }},
+      {macro / "proportions", [](const std::string&) { return true; }},
+      {root / "targets" / "breast", [&](const std::string& s) { return starts(s, "female-") || starts(s, "male-"); }},
+  };
+  for (const auto& fam : families) {
+    std::error_code ec;
+    if (!fs::is_directory(fam.folder, ec)) throw Error(ErrorKind::Io, "missing folder '" + fam.folder.string() + "'", "--assets");
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(fam.folder, ec))
+      if (e.is_regular_file() && e.path().filename().string().size() > 10 &&
+          e.path().filename().string().find(".target.gz") != std::string::npos && fam.member(stem_of_target(e.path())))
+        files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) throw Error(ErrorKind::Io, "no targets in '" + fam.folder.string() + "'", "--assets");
+    std::vector<Target> members;
+    for (const auto& f : files) {
+      const std::string stem = stem_of_target(f);
+      if (options.skip_baby && stem.find("-baby") != std::string::npos) continue;
+      members.push_back(read_target(f.string(), n));
+    }
+    // A family whose typical member moves (nearly) every vertex is dense: a member that moves
+    // fewer than half as many as the median was cut short (README: one such file in the source).
+    std::vector<size_t> counts;
+    for (const auto& t : members)
+      if (!t.indices.empty()) counts.push_back(t.indices.size());
+    std::sort(counts.begin(), counts.end());
+    const size_t median = counts.empty() ? 0 : counts[counts.size() / 2];
+    const bool dense = median > static_cast<size_t>(0.9 * n);
+    for (auto& t : members) {
+      if (dense && !t.indices.empty() && t.indices.size() < median / 2) {
+        a.problems.push_back({t.name, "truncated: " + std::to_string(t.indices.size()) + " entries where its siblings have about " +
+                                          std::to_string(median) + "; skipped"});
+        continue;
+      }
+      a.macro_targets.push_back(std::move(t));
+    }
+  }
+  for (const char* part : {"arms", "feet", "hands", "legs", "neck", "torso"}) {
+    const fs::path folder = root / "targets" / part;
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec)) throw Error(ErrorKind::Io, "missing folder '" + folder.string() + "'", "--assets");
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(folder, ec)) {
+      const std::string s = e.path().filename().string();
+      if (starts(s, "measure-") && s.find(".target.gz") != std::string::npos) files.push_back(e.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) a.modifier_targets.push_back(read_target(f.string(), n));
+  }
+  if (a.modifier_targets.empty()) throw Error(ErrorKind::Io, "no measure-* targets under '" + (root / "targets").string() + "'", "--assets");
+  return a;
+}
+
+}  // namespace caliper::makehuman

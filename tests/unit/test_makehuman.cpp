@@ -1,0 +1,320 @@
+// The MakeHuman builder (issue 8): asset parsing, the macro rule, rig mapping, landmarks and a
+// small population build. Tests needing the assets read them from ../shared/data/makehuman and
+// skip with a message where that folder is absent; the macro and bad-file tests need nothing.
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <nlohmann/json.hpp>
+
+#include "caliper/caliper.h"
+#include "caliper/makehuman/assets.h"
+#include "caliper/makehuman/body.h"
+#include "caliper/makehuman/builder.h"
+#include "caliper/makehuman/landmarks.h"
+#include "caliper/makehuman/macro.h"
+#include "caliper/measure/geometry.h"
+#include "temp_files.h"
+
+namespace caliper {
+namespace {
+
+using namespace makehuman;
+
+std::string assets_dir() { return std::string(CALIPER_SHARED_DIR) + "/data/makehuman"; }
+bool have_assets() { return std::filesystem::exists(assets_dir() + "/3dobjs/base.obj"); }
+#define REQUIRE_ASSETS() \
+  if (!have_assets()) GTEST_SKIP() << "MakeHuman assets not found in " << assets_dir() << " (see docs/makehuman.md)"
+
+// Mesh and rig only (no targets): enough for the rig tests, and fast.
+Assets mesh_and_rig() {
+  Assets a;
+  a.dir = assets_dir();
+  a.mesh = read_base_mesh(a.dir);
+  a.rig = read_rig(a.dir, a.mesh);
+  return a;
+}
+
+void write_gz(const std::string& path, const std::string& text) {
+  gzFile f = gzopen(path.c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
+  gzclose(f);
+}
+
+template <class F>
+ErrorKind kind_of(F&& f, std::string* message = nullptr) {
+  try {
+    f();
+  } catch (const Error& e) {
+    if (message) *message = e.what();
+    return e.kind();
+  }
+  ADD_FAILURE() << "no caliper::Error thrown";
+  return ErrorKind::InvalidArgument;
+}
+
+// ---- macro rule (no assets needed) ----
+
+TEST(MakeHumanMacro, TargetWeightIsTheProductOfTokenWeights) {
+  MacroSliders s;
+  s.gender = 0.3;   // female 0.7, male 0.3
+  s.age = 0.75;     // young 0.5, old 0.5
+  s.muscle = 0.2;   // min 0.6, average 0.4
+  s.weight = 0.25;  // min 0.5, average 0.5
+  s.height = 0.8;   // maxheight 0.6, minheight 0
+  s.african = 0.5, s.asian = 0.25, s.caucasian = 0.25;
+  const auto w = token_weights(s);
+  EXPECT_NEAR(target_weight("universal-female-old-minmuscle-averageweight", w), 0.7 * 0.5 * 0.6 * 0.5, 1e-12);
+  EXPECT_NEAR(target_weight("african-male-young", w), 0.5 * 0.3 * 0.5, 1e-12);
+  EXPECT_NEAR(target_weight("female-young-minmuscle-minweight-maxheight", w), 0.7 * 0.5 * 0.6 * 0.5 * 0.6, 1e-12);
+  EXPECT_EQ(target_weight("male-old-averagemuscle-minweight-minheight", w), 0.0);
+  EXPECT_EQ(target_weight("universal-male-baby-minmuscle-minweight", w), 0.0);
+  // Race weights are normalised.
+  s.african = 0.8, s.asian = 0.4, s.caucasian = 0.4;
+  EXPECT_NEAR(token_weights(s).at("african"), 0.5, 1e-12);
+}
+
+TEST(MakeHumanMacro, AgeBreakpointsAndModifierSigns) {
+  EXPECT_NEAR(age_slider(25), 0.5, 1e-12);
+  EXPECT_NEAR(age_slider(10), 0.1875, 1e-12);
+  EXPECT_NEAR(age_slider(90), 1.0, 1e-12);
+  MacroSliders s;
+  s.age = 0.1875;  // exactly a child
+  EXPECT_NEAR(token_weights(s).at("child"), 1.0, 1e-12);
+  EXPECT_NEAR(token_weights(s).at("young"), 0.0, 1e-12);
+  const std::map<std::string, double> v = {{"measure-waist-circ", -0.4}};
+  EXPECT_NEAR(modifier_weight("measure-waist-circ-decr", v), 0.4, 1e-12);
+  EXPECT_EQ(modifier_weight("measure-waist-circ-incr", v), 0.0);
+  EXPECT_EQ(modifier_weight("measure-hips-circ-incr", v), 0.0);
+}
+
+TEST(MakeHumanMacro, BadSlidersAndTokensAreErrors) {
+  MacroSliders s;
+  s.weight = 1.2;
+  EXPECT_EQ(kind_of([&] { token_weights(s); }), ErrorKind::OutOfRange);
+  s.weight = std::nan("");
+  EXPECT_EQ(kind_of([&] { token_weights(s); }), ErrorKind::OutOfRange);
+  s = {};
+  s.african = s.asian = s.caucasian = 0;
+  EXPECT_EQ(kind_of([&] { token_weights(s); }), ErrorKind::InvalidArgument);
+  std::string message;
+  EXPECT_EQ(kind_of([&] { target_weight("female-young-giant", token_weights(MacroSliders{})); }, &message), ErrorKind::Format);
+  EXPECT_NE(message.find("giant"), std::string::npos);
+}
+
+// ---- bad files (no assets needed) ----
+
+TEST(MakeHumanFiles, TargetParsesUnitsAndRejectsDamage) {
+  test::TempDir dir;
+  write_gz(dir / "good.target.gz", "0 1.0 -2.0 0.5\n# a comment\n7 0 0 .25\n");
+  const Target t = read_target(dir / "good.target.gz", 10);
+  EXPECT_EQ(t.name, "good");
+  ASSERT_EQ(t.indices.size(), 2u);
+  EXPECT_EQ(t.indices[1], 7);
+  EXPECT_NEAR(t.deltas[0](1), -0.2, 1e-7);  // decimetres → metres
+  EXPECT_NEAR(t.deltas[1](2), 0.025, 1e-7);
+
+  std::string message;
+  write_gz(dir / "range.target.gz", "0 0 0 0\n10 0 0 0\n");
+  EXPECT_EQ(kind_of([&] { read_target(dir / "range.target.gz", 10); }, &message), ErrorKind::Format);
+  EXPECT_NE(message.find("line 2"), std::string::npos) << message;
+  write_gz(dir / "nan.target.gz", "3 0 nan 0\n");
+  EXPECT_EQ(kind_of([&] { read_target(dir / "nan.target.gz", 10); }), ErrorKind::Format);
+  write_gz(dir / "word.target.gz", "3 0 abc 0\n");
+  EXPECT_EQ(kind_of([&] { read_target(dir / "word.target.gz", 10); }, &message), ErrorKind::Format);
+  EXPECT_NE(message.find("abc"), std::string::npos);
+  write_gz(dir / "fields.target.gz", "3 0 0\n");
+  EXPECT_EQ(kind_of([&] { read_target(dir / "fields.target.gz", 10); }), ErrorKind::Format);
+
+  // Not gzip at all, and a gzip stream cut in the middle.
+  test::write_file(dir / "plain.target.gz", "0 1 2 3\n");
+  EXPECT_EQ(kind_of([&] { read_target(dir / "plain.target.gz", 10); }, &message), ErrorKind::Format);
+  EXPECT_NE(message.find("plain.target.gz"), std::string::npos);
+  std::string big;
+  for (int i = 0; i < 5000; ++i) big += std::to_string(i % 10) + " 0.123 0.456 0.789\n";
+  write_gz(dir / "whole.target.gz", big);
+  const std::string bytes = test::read_file(dir / "whole.target.gz");
+  test::write_file(dir / "cut.target.gz", bytes.substr(0, bytes.size() / 2));
+  EXPECT_EQ(kind_of([&] { read_target(dir / "cut.target.gz", 10); }), ErrorKind::Format);
+  EXPECT_EQ(kind_of([&] { read_target(dir / "missing.target.gz", 10); }), ErrorKind::Io);
+}
+
+TEST(MakeHumanFiles, WrongFolderAndMissingFileAreClearErrors) {
+  test::TempDir dir;
+  std::string message;
+  EXPECT_EQ(kind_of([&] { load_assets(dir / "nowhere"); }, &message), ErrorKind::Io);
+  EXPECT_NE(message.find("MPFB2"), std::string::npos) << message;
+  // A folder that is not an assets folder.
+  EXPECT_EQ(kind_of([&] { load_assets(dir.path.string()); }, &message), ErrorKind::Io);
+  EXPECT_NE(message.find("3dobjs"), std::string::npos) << message;
+  // The right sub-folders but no base mesh.
+  for (const char* sub : {"3dobjs", "mesh_metadata", "targets/macrodetails", "rigs/standard"})
+    std::filesystem::create_directories(dir.path / sub);
+  EXPECT_EQ(kind_of([&] { load_assets(dir.path.string()); }, &message), ErrorKind::Io);
+  EXPECT_NE(message.find("base.obj"), std::string::npos) << message;
+}
+
+// ---- the real assets ----
+
+TEST(MakeHumanAssets, BaseMeshIsClosedManifoldAndInMetres) {
+  REQUIRE_ASSETS();
+  const BaseMesh m = read_base_mesh(assets_dir());
+  EXPECT_EQ(m.vertices.rows(), 19158);
+  const MeshCheck c = check_mesh(m.body_faces, kBodyVertexCount);
+  EXPECT_TRUE(c.closed && c.manifold && c.consistently_oriented);
+  EXPECT_EQ(c.unused_vertices, 0);
+  EXPECT_EQ(m.body_faces.maxCoeff(), kBodyVertexCount - 1);
+  // README's independent reference numbers for the bare base mesh: 166.6 cm and 54.9 L.
+  const Vertices body = m.vertices.topRows(kBodyVertexCount);
+  EXPECT_NEAR((body.col(1).maxCoeff() - body.col(1).minCoeff()) * 100, 166.6, 0.06);
+  EXPECT_NEAR(signed_volume(body, m.body_faces) * 1000, 54.9, 0.06);
+  // The mirror map is an involution on the body.
+  for (int v = 0; v < kBodyVertexCount; ++v) ASSERT_EQ(m.mirror[static_cast<size_t>(m.mirror[static_cast<size_t>(v)])], v);
+}
+
+TEST(MakeHumanAssets, MacroBodiesMatchTheReferenceNumbersAndTheTruncatedTargetIsNamed) {
+  REQUIRE_ASSETS();
+  const Assets a = load_assets(assets_dir());
+  // README: young adult, race 1/3 each, other sliders 0.5: 159.0 cm / 48.0 L (gender 0),
+  // 165.9 / 54.9 (0.5), 173.0 / 63.3 (1).
+  const double expected[3][3] = {{0.0, 159.0, 48.0}, {0.5, 165.9, 54.9}, {1.0, 173.0, 63.3}};
+  for (const auto& e : expected) {
+    Shape s;
+    s.macro.gender = e[0];
+    const Vertices body = morph(a, s).topRows(kBodyVertexCount);
+    EXPECT_NEAR((body.col(1).maxCoeff() - body.col(1).minCoeff()) * 100, e[1], 0.06) << "gender " << e[0];
+    EXPECT_NEAR(signed_volume(body, a.mesh.body_faces) * 1000, e[2], 0.06) << "gender " << e[0];
+  }
+  bool named = false;
+  for (const auto& p : a.problems) named |= p.name == "female-old-maxmuscle-maxweight-minheight";
+  EXPECT_TRUE(named);
+  for (const auto& t : a.macro_targets) EXPECT_NE(t.name, "female-old-maxmuscle-maxweight-minheight");
+  EXPECT_EQ(modifier_names(a).size(), 20u);
+  // A modifier moves the body: waist up, the waist's vertices move outwards on average.
+  Shape wide;
+  wide.modifiers["measure-waist-circ"] = 1;
+  EXPECT_GT((morph(a, wide) - morph(a, Shape{})).cwiseAbs().maxCoeff(), 0.005);
+}
+
+TEST(MakeHumanRig, MapsOntoSmplJointsAndBakesAHorizontalTPose) {
+  REQUIRE_ASSETS();
+  const Assets a = mesh_and_rig();
+  ASSERT_EQ(a.rig.bones.size(), 31u);
+  const std::vector<int> of = smpl_joint_of_bones(a.rig);
+  std::set<int> covered(of.begin(), of.end());
+  EXPECT_EQ(covered.size(), 24u);  // every SMPL joint gets a bone
+  const auto w = smpl_skin_weights(a);
+  EXPECT_EQ(w.rows(), kBodyVertexCount);
+  EXPECT_EQ(w.cols(), 24);
+  for (int v = 0; v < kBodyVertexCount; ++v) ASSERT_NEAR(w.row(v).sum(), 1.0, 1e-6) << "vertex " << v;
+
+  const PosedBody p = t_pose(a, a.mesh.vertices);
+  const auto& names = smpl_joint_names();
+  auto j = [&](const char* n) { return Eigen::Vector3d(p.joints.row(std::find(names.begin(), names.end(), n) - names.begin())); };
+  for (const char* side : {"left", "right"}) {
+    const std::string s(side);
+    const double sign = s == "left" ? 1 : -1;
+    const Eigen::Vector3d sh = j((s + "_shoulder").c_str()), el = j((s + "_elbow").c_str()), wr = j((s + "_wrist").c_str());
+    EXPECT_NEAR(el(1), sh(1), 1e-9);  // arms horizontal
+    EXPECT_NEAR(wr(1), sh(1), 1e-9);
+    EXPECT_NEAR(el(2), sh(2), 1e-9);
+    EXPECT_GT(sign * (el(0) - sh(0)), 0.2);  // pointing outwards
+    EXPECT_GT(sign * (wr(0) - el(0)), 0.15);
+  }
+  EXPECT_NEAR(p.body.col(1).minCoeff(), 0.0, 1e-12);  // feet on the floor
+  EXPECT_GT(j("left_foot")(2), j("left_ankle")(2));  // toes forward: facing +Z
+  EXPECT_GT(j("left_hip")(0), 0);                      // +X is the body's left
+  // The legs and head did not move: only the arm chains are posed.
+  const double floor = a.mesh.vertices.topRows(kBodyVertexCount).col(1).minCoeff();
+  const int head_vertex = 0;  // vertex 0 is on the face
+  EXPECT_NEAR(p.body(head_vertex, 1) + floor, a.mesh.vertices(head_vertex, 1), 1e-12);
+  EXPECT_NEAR(p.body(head_vertex, 0), a.mesh.vertices(head_vertex, 0), 1e-12);
+}
+
+TEST(MakeHumanLandmarks, JsonMatchesTheRulesSymmetricAndOrdered) {
+  REQUIRE_ASSETS();
+  const Assets a = load_assets(assets_dir());
+  const std::map<std::string, int> picked = pick_landmarks(a);
+  std::ifstream f(std::string(CALIPER_SOURCE_DIR) + "/landmarks/makehuman.json");
+  ASSERT_TRUE(f) << "landmarks/makehuman.json missing";
+  const nlohmann::json doc = nlohmann::json::parse(f);
+  std::map<std::string, int> recorded;
+  for (const auto& [k, v] : doc.at("landmarks").items()) recorded[k] = v.get<int>();
+  EXPECT_EQ(picked, recorded);
+  // Every landmark the measurement definitions use exists.
+  for (const auto& d : measurement_definitions())
+    for (const auto& l : d.landmarks) EXPECT_TRUE(picked.count(l)) << d.name << " needs " << l;
+
+  const BodyModel ref = reference_model(a, Sex::Neutral);
+  const Vertices& v = ref.data().template_vertices;
+  for (const auto& [name, idx] : picked) {
+    const auto pos = name.rfind("_left");
+    if (pos == std::string::npos || pos + 5 != name.size()) continue;
+    if (!picked.count(name.substr(0, pos) + "_right")) continue;  // e.g. hip_left has no partner
+    const int right = picked.at(name.substr(0, pos) + "_right");
+    EXPECT_EQ(a.mesh.mirror[static_cast<size_t>(idx)], right) << name;
+    EXPECT_NEAR(v(idx, 0), -v(right, 0), 1e-3) << name;
+    EXPECT_NEAR(v(idx, 1), v(right, 1), 1e-3) << name;
+    EXPECT_GT(v(idx, 0), 0) << name << " is on the body's left (+X)";
+  }
+  const char* order[] = {"vertex", "glabella", "neck_front", "cervicale", "acromion_right", "axilla_right", "thelion_right",
+                         "omphalion", "trochanterion_right", "crotch", "gluteal_furrow", "knee_right", "calf_right",
+                         "ankle_right", "lateral_malleolus_right"};
+  for (size_t i = 0; i + 1 < std::size(order); ++i)
+    EXPECT_GT(v(picked.at(order[i]), 1), v(picked.at(order[i + 1]), 1)) << order[i] << " above " << order[i + 1];
+  // The reference body measures like a person of its height.
+  const auto m = measure_all(ref, v);
+  EXPECT_GT(m.at("span") / m.at("stature"), 0.9);
+  EXPECT_GT(m.at("hip_breadth"), 0.28);
+  EXPECT_LT(m.at("hand_breadth"), 0.11);
+}
+
+TEST(MakeHumanBuild, SmallPopulationGivesAModelAvatarsCanUse) {
+  REQUIRE_ASSETS();
+  const std::string csv = std::string(CALIPER_SHARED_DIR) + "/data/ansur2/ANSUR_II_FEMALE_dev.csv";
+  if (!std::filesystem::exists(csv)) GTEST_SKIP() << "ANSUR II data not found: " << csv;
+  const Assets a = load_assets(assets_dir());
+  const auto subjects = read_ansur_csv(csv);
+  BuildOptions o;
+  o.components = 3;
+  o.max_subjects = 12;
+  o.iterations = 4;
+  BuildReport rep;
+  auto model = std::make_shared<const BodyModel>(build_makehuman_model(a, subjects, Sex::Female, o, &rep));
+  EXPECT_EQ(rep.subjects, 12);
+  EXPECT_EQ(model->name(), "makehuman-female");
+  EXPECT_EQ(model->vertex_count(), kBodyVertexCount);
+  EXPECT_EQ(model->shape_count(), 3);
+  EXPECT_EQ(model->joint_count(), 24);
+  EXPECT_GT(rep.fitted.a, 0);
+  EXPECT_FALSE(rep.problems.empty());
+  // The fit moved the bodies towards the subjects: stature is fitted to within a few cm.
+  EXPECT_LT(rep.fit_mae.at("stature"), 0.03);
+  // The joint regressor reproduces the rig's joints on the fitted bodies.
+  EXPECT_LT(rep.joint_rms_m, 0.01);
+  const Vertices mean = model->rest_vertices(Eigen::VectorXd::Zero(3));
+  EXPECT_NEAR(mean.col(1).minCoeff(), 0.0, 0.01);
+  const Eigen::MatrixX3d joints = model->joints(mean);
+  EXPECT_NEAR(joints(18, 1), joints(16, 1), 0.02);  // elbows level with shoulders: T-pose
+
+  AvatarBuilder builder(model);
+  AvatarRequest request;
+  request.measurements = {{"stature", 1.66}, {"weight", 64.0}};
+  request.regressor = "R2";
+  request.measure_only = {"stature", "weight"};
+  const Avatar av = builder.build(request);
+  EXPECT_NEAR(av.achieved.at("stature"), 1.66, 0.005);
+  EXPECT_NEAR(av.achieved.at("weight"), 64.0, 1.0);
+
+  test::TempDir dir;
+  save_model(*model, dir / "makehuman-female.npz");
+  const BodyModel back = load_model(dir / "makehuman-female.npz", Sex::Female);
+  EXPECT_EQ(back.vertex_count(), model->vertex_count());
+  EXPECT_EQ(back.data().landmarks, model->data().landmarks);
+}
+
+}  // namespace
+}  // namespace caliper
