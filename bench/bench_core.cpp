@@ -1,5 +1,5 @@
 // Speed of the core pipeline on the built-in body (docs/performance.md):
-//   rest vertices for a β, training the four presets, measurements → .glb bytes.
+//   rest vertices for a β, training the four presets, measurements → .glb bytes, the map estimator.
 #include <benchmark/benchmark.h>
 
 #include "caliper/caliper.h"
@@ -54,6 +54,29 @@ void BM_MeasurementsToGlb(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_MeasurementsToGlb)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// The noise-aware estimator (issue 7): Levenberg–Marquardt with finite-difference Jacobians
+// (K + 1 bodies per iteration) on the six inputs with "self" noise. Arg 0: β and its covariance
+// only; 1: also the SD of all 43 measurements and of every vertex, and the avatar measured (what
+// `caliper avatar --regressor map` and the server do).
+void BM_MapEstimate(benchmark::State& state) {
+  const auto model = female_model();
+  AvatarBuilder builder(model);
+  AvatarRequest req;
+  req.measurements = typical_inputs();
+  req.regressor = "map";
+  req.noise = "self";
+  req.measure_avatar = state.range(0) != 0;
+  req.vertex_uncertainty = state.range(0) != 0;
+  int inputs = 0;
+  for (auto _ : state) {
+    const Avatar a = builder.build(req);
+    benchmark::DoNotOptimize(a.beta.data());
+    inputs = static_cast<int>(a.input_fits.size());
+  }
+  state.counters["inputs"] = inputs;
+}
+BENCHMARK(BM_MapEstimate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_MeasureAll(benchmark::State& state) {
   const auto model = female_model();

@@ -10,8 +10,8 @@
 
 namespace caliper {
 
-AvatarBuilder::AvatarBuilder(std::shared_ptr<const BodyModel> model) : model_(std::move(model)) {
-  if (!model_) throw Error(ErrorKind::InvalidArgument, "no body model", "model");
+AvatarBuilder::AvatarBuilder(std::shared_ptr<const BodyModel> model)
+    : model_(model ? std::move(model) : throw Error(ErrorKind::InvalidArgument, "no body model", "model")), map_(model_) {
   auto it = model_->data().metadata.find("real_to_virtual");
   if (it != model_->data().metadata.end()) maps_ = RealToVirtual::from_json(it->second);
 }
@@ -70,6 +70,68 @@ const Regressor& AvatarBuilder::regressor(const std::string& name, const std::ve
   return ref;
 }
 
+Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
+  // The noise-aware estimator (issue 7): every given measurement the model can measure is an input.
+  MapOptions options;
+  options.noise = parse_noise_setting(request.noise);
+  options.measurement_uncertainty = request.measure_avatar;
+  options.uncertainty_of = request.measure_only;
+  options.vertex_uncertainty = request.vertex_uncertainty;
+  Avatar avatar;
+  avatar.regressor = "map";
+  avatar.noise = to_string(options.noise);
+  avatar.requested = request.measurements;
+  avatar.model_maps = maps_;
+  avatar.targets = request.measurements;
+  if (request.apply_model_maps) maps_.apply(avatar.targets);
+  std::map<std::string, double> inputs;
+  for (const auto& [name, value] : avatar.targets) {
+    if (!model_->find_measurement(name)) {
+      avatar.warnings.push_back(name + " is not used: model '" + model_->name() + "' cannot measure it");
+      continue;
+    }
+    inputs[name] = value;
+    avatar.inputs.push_back(name);
+    double sd = default_noise_sd(*model_, name, options.noise);
+    if (auto o = request.noise_sd.find(name); o != request.noise_sd.end()) sd = o->second;
+    // A real → virtual map scales the noise with the value: σ_virtual = |slope|·σ_real.
+    if (request.apply_model_maps) sd *= std::abs(maps_.map(name).slope);
+    options.noise_sd[name] = sd;
+  }
+  for (const auto& [name, sd] : request.noise_sd)
+    if (!request.measurements.count(name))
+      throw Error(ErrorKind::InvalidArgument, "a noise SD was given for " + name + ", which is not among the measurements", name);
+  if (inputs.empty())
+    throw Error(ErrorKind::Unsupported, "map needs at least one measurement the model can measure", "measurements");
+  const MapEstimate est = map_.estimate(inputs, options);
+  avatar.beta = est.beta;
+  avatar.beta_covariance = est.covariance;
+  avatar.uncertainty = est.measurement_sd;
+  avatar.vertex_sd = est.vertex_sd;
+  avatar.input_fits = est.inputs;
+  avatar.warnings.insert(avatar.warnings.begin(), est.warnings.begin(), est.warnings.end());
+  finish(request, avatar);
+  // Measurements not asked for (measure_only) keep no SD, so the report lists matching keys.
+  if (!request.measure_only.empty())
+    for (auto it = avatar.uncertainty.begin(); it != avatar.uncertainty.end();)
+      it = avatar.achieved.count(it->first) ? std::next(it) : avatar.uncertainty.erase(it);
+  return avatar;
+}
+
+void AvatarBuilder::finish(const AvatarRequest& request, Avatar& avatar) const {
+  avatar.rest_vertices = model_->rest_vertices(avatar.beta);
+  avatar.joints = model_->joints(avatar.rest_vertices);
+  avatar.plausibility = judge_plausibility(avatar.beta);
+  avatar.requested = request.measurements;
+  if (!request.measure_avatar) {
+    // Nothing measured: the caller only wants the body.
+  } else if (request.measure_only.empty()) {
+    avatar.achieved = measure_all(*model_, avatar.rest_vertices);
+  } else {
+    avatar.achieved = measure_some(*model_, request.measure_only, avatar.rest_vertices);
+  }
+}
+
 Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   std::vector<std::string> known;
   for (const auto& [name, value] : request.measurements) known.push_back(name);
@@ -78,6 +140,7 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   std::vector<std::string> inputs;
   std::string upper = key;
   for (auto& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  if (upper == "MAP") return build_map(request);
   if (upper == "AUTO") {
     key = auto_preset(known);
     inputs = preset_inputs(key);
@@ -104,17 +167,7 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   avatar.model_maps = maps_;
   if (request.apply_model_maps) maps_.apply(avatar.targets);
   avatar.beta = r.predict(*model_, avatar.targets);
-  avatar.rest_vertices = model_->rest_vertices(avatar.beta);
-  avatar.joints = model_->joints(avatar.rest_vertices);
-  avatar.plausibility = judge_plausibility(avatar.beta);
-  avatar.requested = request.measurements;
-  if (!request.measure_avatar) {
-    // Nothing measured: the caller only wants the body.
-  } else if (request.measure_only.empty()) {
-    avatar.achieved = measure_all(*model_, avatar.rest_vertices);
-  } else {
-    avatar.achieved = measure_some(*model_, request.measure_only, avatar.rest_vertices);
-  }
+  finish(request, avatar);
   return avatar;
 }
 

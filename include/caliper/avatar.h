@@ -8,13 +8,22 @@
 
 #include "caliper/body/body_model.h"
 #include "caliper/protocol/real_to_virtual.h"
+#include "caliper/regress/map_estimator.h"
 #include "caliper/regress/regressor.h"
 
 namespace caliper {
 
 struct AvatarRequest {
   std::map<std::string, double> measurements;  // canonical name → SI value (m, kg), checked
-  std::string regressor = "auto";              // R2, R4, R5, R6, auto, or "custom:a,b,c"
+  std::string regressor = "auto";              // R2, R4, R5, R6, auto, map, or "custom:a,b,c"
+  // For "map" (regress/map_estimator.h): who measured (exact | self | other) sets each input's
+  // noise SD; `noise_sd` overrides it per measurement (canonical name → SD, SI: m or kg).
+  // Every given measurement the model can measure is an input of "map".
+  std::string noise = "self";
+  std::map<std::string, double> noise_sd;
+  // For "map": also compute the posterior SD of every vertex (the measurements' SDs follow
+  // measure_avatar / measure_only).
+  bool vertex_uncertainty = true;
   // Apply the model's own real → virtual maps (metadata "real_to_virtual", paper §3.3) to the
   // measurements before regressing: they are real measurements of a person, the regressor
   // needs what the avatar's rest pose shows (e.g. arm length taken with the arm hanging).
@@ -37,6 +46,16 @@ struct Avatar {
   std::map<std::string, double> targets;       // SI, after real → virtual maps (what was regressed on)
   RealToVirtual model_maps;                    // the model's maps (identity where it has none)
   std::map<std::string, double> achieved;      // SI, every measurement the model knows (or measure_only)
+  // Only from "map" (empty otherwise): the noise setting used, the posterior SD of β's
+  // measurements (SI, keyed like `achieved`), of each vertex (N, metres, √trace of its 3×3
+  // covariance), the K×K covariance of β, how each input fitted, and warnings in plain words
+  // (an inconsistent input is named first).
+  std::string noise;
+  std::map<std::string, double> uncertainty;
+  Eigen::VectorXd vertex_sd;
+  Eigen::MatrixXd beta_covariance;
+  std::map<std::string, MapInputFit> input_fits;
+  std::vector<std::string> warnings;
 };
 
 class AvatarBuilder {
@@ -46,7 +65,7 @@ class AvatarBuilder {
   const RealToVirtual& model_maps() const { return maps_; }
 
   // Throws Error(Unsupported) when the regressor needs a measurement that was not given or the
-  // model lacks, Error(InvalidArgument) for an unknown regressor name.
+  // model lacks, Error(InvalidArgument) for an unknown regressor name or noise setting.
   Avatar build(const AvatarRequest& request) const;
 
   // Trained regressor by name (trains on first use; the corner design is shared).
@@ -58,6 +77,10 @@ class AvatarBuilder {
   mutable std::mutex mutex_;
   mutable std::unique_ptr<CornerDesign> design_;
   mutable std::map<std::string, std::unique_ptr<Regressor>> regressors_;
+  MapEstimator map_;  // const and thread-safe: no lock needed
+
+  Avatar build_map(const AvatarRequest& request) const;
+  void finish(const AvatarRequest& request, Avatar& avatar) const;  // body, joints, plausibility, measurements
 };
 
 // Checks and converts user-edge values (cm, kg; names or aliases) into a request's SI map.

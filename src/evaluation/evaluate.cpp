@@ -40,6 +40,15 @@ std::map<std::string, double> table2_mae(MeasurementNoise noise) {
   return {};
 }
 
+std::string map_noise_for(MeasurementNoise noise) {
+  switch (noise) {
+    case MeasurementNoise::None: return "exact";
+    case MeasurementNoise::Self: return "self";
+    case MeasurementNoise::Other: return "other";
+  }
+  return "exact";
+}
+
 const std::vector<std::pair<std::string, std::string>>& held_out_columns() {
   static const std::vector<std::pair<std::string, std::string>> cols = {
       {"chestcircumference", "chest_circumference"}, {"waistcircumference", "waist_circumference"},
@@ -62,8 +71,10 @@ const std::vector<std::pair<std::string, std::string>>& input_keys() {
 
 // One subject's signed errors per method and key (NaN = not applicable), and plausibility.
 struct SubjectErrors {
-  std::map<std::string, std::map<std::string, double>> inputs, held_out;
+  std::map<std::string, std::map<std::string, double>> inputs, inputs_vs_truth, held_out;
   std::map<std::string, bool> implausible, failed;
+  // "map": per key, |avatar − truth| / predicted SD and the SD itself.
+  std::map<std::string, std::map<std::string, std::pair<double, double>>> standardised;
 };
 
 ErrorStats stats_of(const std::vector<double>& errors) {
@@ -121,10 +132,32 @@ void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Ver
       req.measurements = noisy;
       req.regressor = regressor;
       req.measure_only = measured_names();
+      req.noise = opt.map_noise.empty() ? map_noise_for(opt.noise) : opt.map_noise;
+      req.vertex_uncertainty = false;
       const Avatar a = builder.build(req);
+      if (!a.uncertainty.empty()) {
+        // Calibration of the predicted SD: held-out columns against ANSUR, inputs against the
+        // noise-free value (through the model's map), each as |error| / SD.
+        auto& st = out.standardised[method];
+        for (const auto& [col, m] : held_out_columns()) {
+          auto it = a.achieved.find(m);
+          auto t = s.values.find(col);
+          auto u = a.uncertainty.find(m);
+          if (it != a.achieved.end() && t != s.values.end() && u != a.uncertainty.end() && u->second > 0)
+            st[col] = {std::abs(it->second - t->second) / u->second, u->second};
+        }
+        for (const auto& [canonical, key] : input_keys()) {
+          auto it = a.achieved.find(canonical);
+          auto u = a.uncertainty.find(canonical);
+          if (it != a.achieved.end() && u != a.uncertainty.end() && truth.count(canonical) && u->second > 0)
+            st[key] = {std::abs(it->second - maps.map(canonical).apply(truth.at(canonical))) / u->second, u->second};
+        }
+      }
       for (const auto& in : a.inputs) {
         const auto key = std::find_if(input_keys().begin(), input_keys().end(), [&](auto& k) { return k.first == in; });
-        out.inputs[method][key == input_keys().end() ? in : key->second] = a.achieved.at(in) - a.targets.at(in);
+        const std::string k = key == input_keys().end() ? in : key->second;
+        out.inputs[method][k] = a.achieved.at(in) - a.targets.at(in);
+        if (truth.count(in)) out.inputs_vs_truth[method][k] = a.achieved.at(in) - maps.map(in).apply(truth.at(in));
       }
       held_out_errors(a.achieved, a.inputs, out.held_out[method]);
       out.implausible[method] = a.plausibility.overall == Verdict::Implausible;
@@ -135,6 +168,7 @@ void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Ver
   if (opt.baselines && r2_evaluated) {  // the R2 baseline is the R2 regressor: computed once
     if (out.failed.count("R2")) out.failed["baseline:R2"] = true;
     if (out.inputs.count("R2")) out.inputs["baseline:R2"] = out.inputs["R2"];
+    if (out.inputs_vs_truth.count("R2")) out.inputs_vs_truth["baseline:R2"] = out.inputs_vs_truth["R2"];
     if (out.held_out.count("R2")) out.held_out["baseline:R2"] = out.held_out["R2"];
     if (out.implausible.count("R2")) out.implausible["baseline:R2"] = out.implausible["R2"];
   }
@@ -158,8 +192,9 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
   for (const auto& r : opt.regressors) {
     std::string upper = r;
     for (auto& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    if (upper != "AUTO") preset_inputs(upper);  // unknown names fail before any work
+    if (upper != "AUTO" && upper != "MAP") preset_inputs(upper);  // unknown names fail before any work
   }
+  if (!opt.map_noise.empty()) parse_noise_setting(opt.map_noise);
   const int n = static_cast<int>(subjects.size());
   // Builders are fetched (and their regressors trained) before the workers start.
   std::map<Sex, std::shared_ptr<const AvatarBuilder>> builders;
@@ -190,16 +225,35 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
   if (opt.baselines) { methods.push_back("baseline:uniform_scale"); methods.push_back("baseline:R2"); }
   for (const auto& method : methods) {
     MethodEvaluation me;
-    std::map<std::string, std::vector<double>> in, out;
+    std::map<std::string, std::vector<double>> in, in_truth, out;
     int implausible = 0, built = 0;
     for (const auto& p : per) {
       if (p.failed.count(method)) { ++me.failures; continue; }
       ++built;
       if (p.implausible.count(method) && p.implausible.at(method)) ++implausible;
       if (p.inputs.count(method)) for (const auto& [k, e] : p.inputs.at(method)) in[k].push_back(e);
+      if (p.inputs_vs_truth.count(method)) for (const auto& [k, e] : p.inputs_vs_truth.at(method)) in_truth[k].push_back(e);
       if (p.held_out.count(method)) for (const auto& [k, e] : p.held_out.at(method)) out[k].push_back(e);
     }
     for (const auto& [k, v] : in) me.inputs[k] = stats_of(v);
+    for (const auto& [k, v] : in_truth) me.inputs_vs_truth[k] = stats_of(v);
+    std::map<std::string, std::vector<std::pair<double, double>>> standardised;
+    for (const auto& p : per)
+      if (auto it = p.standardised.find(method); it != p.standardised.end() && !p.failed.count(method))
+        for (const auto& [k, zs] : it->second) standardised[k].push_back(zs);
+    for (const auto& [k, v] : standardised) {
+      Calibration c;
+      for (const auto& [z, sd] : v) {
+        c.within_1sd += z <= 1;
+        c.within_2sd += z <= 2;
+        c.mean_sd += sd;
+      }
+      c.count = static_cast<int>(v.size());
+      c.within_1sd /= c.count;
+      c.within_2sd /= c.count;
+      c.mean_sd /= c.count;
+      me.calibration[k] = c;
+    }
     for (const auto& [k, v] : out)
       if (ErrorStats st = stats_of(v); st.count > 0) me.held_out[k] = st;  // columns the file lacks are left out
     me.implausible_share = built ? static_cast<double>(implausible) / built : 0;
@@ -220,6 +274,13 @@ std::string evaluation_json(const Evaluation& ev, int indent) {
       const std::string u = kg ? "_kg" : "_cm";
       j["inputs"][k] = {{"mae" + u, s.mae * f}, {"max" + u, s.max * f}, {"bias" + u, s.bias * f}, {"n", s.count}};
     }
+    j["inputs_vs_truth"] = ordered_json::object();
+    for (const auto& [k, s] : me.inputs_vs_truth) {
+      const bool kg = k == "weight";
+      const double f = kg ? 1 : 100;
+      const std::string u = kg ? "_kg" : "_cm";
+      j["inputs_vs_truth"][k] = {{"mae" + u, s.mae * f}, {"max" + u, s.max * f}, {"bias" + u, s.bias * f}, {"n", s.count}};
+    }
     j["held_out"] = ordered_json::object();
     for (const auto& [k, s] : me.held_out) {
       const bool kg = k == "weight";
@@ -229,6 +290,14 @@ std::string evaluation_json(const Evaluation& ev, int indent) {
     }
     j["implausible_share"] = me.implausible_share;
     j["failures"] = me.failures;
+    if (!me.calibration.empty()) {
+      j["calibration"] = ordered_json::object();
+      for (const auto& [k, c] : me.calibration) {
+        const bool kg = k == "weight";
+        j["calibration"][k] = {{"within_1sd", c.within_1sd}, {"within_2sd", c.within_2sd},
+                               {kg ? "mean_sd_kg" : "mean_sd_cm", c.mean_sd * (kg ? 1 : 100)}, {"n", c.count}};
+      }
+    }
     return j;
   };
   ordered_json j;
@@ -272,6 +341,8 @@ std::map<std::string, SurfaceStats> synthetic_surface_study(const AvatarBuilder&
       req.regressor = r;
       req.apply_model_maps = false;
       req.measure_only = {"stature"};
+      req.noise = map_noise_for(noise);
+      req.vertex_uncertainty = false;
       const Vertices rebuilt = align(builder.build(req).rest_vertices);
       const Eigen::VectorXd dist = (rebuilt - truth).rowwise().norm();
       SurfaceStats& s = out[r];

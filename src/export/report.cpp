@@ -1,5 +1,6 @@
 #include "caliper/export/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -48,6 +49,9 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
       m["real_equivalent" + suffix] = round_to(lm.invert(achieved) * scale, 1e-3);
     if (req != avatar.requested.end())
       m["difference" + suffix] = round_to((achieved - (mapped ? target->second : req->second)) * scale, 1e-3);
+    // Posterior SD of the avatar's value ("map" only): achieved ± uncertainty.
+    if (auto u = avatar.uncertainty.find(name); u != avatar.uncertainty.end())
+      m["uncertainty" + suffix] = round_to(u->second * scale, 1e-3);
     ms[name] = m;
   }
   // Requested values the model cannot measure are still reported, so nothing the user gave vanishes.
@@ -58,6 +62,33 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
       ms[name] = {{kg ? "requested_kg" : "requested_cm", round_to(requested * (kg ? 1 : 100), 1e-3)}, {"achieved_cm", nullptr}};
     }
   j["measurements"] = ms;
+  j["warnings"] = avatar.warnings;
+  if (avatar.beta_covariance.size() > 0) {
+    // The estimator's side of the uncertainty: noise assumed per input, how each input fitted
+    // (z: its standardised residual against the others), β's SDs and the vertex SDs' summary.
+    ordered_json u;
+    u["noise"] = avatar.noise;
+    ordered_json inputs = ordered_json::object();
+    for (const auto& [name, fit] : avatar.input_fits) {
+      const MeasurementInfo* info = find_measurement_info(name);
+      const bool kg = info && info->unit == Unit::Kilogram;
+      const std::string suffix = kg ? "_kg" : "_cm";
+      const double scale = kg ? 1.0 : 100.0;
+      inputs[name] = {{"noise_sd" + suffix, round_to(fit.noise_sd * scale, 1e-4)},
+                      {"effective_sd" + suffix, round_to(fit.effective_sd * scale, 1e-4)},
+                      {"expected" + suffix, round_to(fit.expected * scale, 1e-3)},
+                      {"expected_sd" + suffix, round_to(fit.expected_sd * scale, 1e-3)},
+                      {"z", round_to(fit.z, 1e-3)}};
+    }
+    u["inputs"] = inputs;
+    u["beta_sd"] = ordered_json::array();
+    for (Eigen::Index i = 0; i < avatar.beta_covariance.rows(); ++i)
+      u["beta_sd"].push_back(round_to(std::sqrt(std::max(0.0, avatar.beta_covariance(i, i))), 1e-6));
+    if (avatar.vertex_sd.size() > 0)
+      u["vertex_sd_cm"] = {{"mean", round_to(avatar.vertex_sd.mean() * 100, 1e-3)},
+                           {"max", round_to(avatar.vertex_sd.maxCoeff() * 100, 1e-3)}};
+    j["uncertainty"] = u;
+  }
   j["vertex_count"] = model.vertex_count();
   j["joint_count"] = model.joint_count();
   return j.dump(indent) + "\n";

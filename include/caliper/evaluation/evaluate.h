@@ -22,6 +22,8 @@ const char* to_string(MeasurementNoise noise);
 // measurer (metres), for the five measured inputs. Weight (a bathroom scale) has no entry.
 // Simulated as zero-mean Gaussian noise with SD = MAE·√(π/2) (the MAE of a Gaussian is SD·√(2/π)).
 std::map<std::string, double> table2_mae(MeasurementNoise noise);
+// The map estimator's noise setting that matches simulated noise: none → exact, self, other.
+std::string map_noise_for(MeasurementNoise noise);
 
 // ANSUR II columns held out from the inputs and compared with the avatars (issue 5), with the
 // model measurement each corresponds to.
@@ -32,16 +34,31 @@ struct ErrorStats {
   int count = 0;
 };
 
+// How the "map" estimator's predicted SD matches the real errors: the share of subjects whose
+// true value lies within ±1 and ±2 predicted SD of the avatar's (a calibrated Gaussian gives
+// 68.3 % and 95.4 %), and the mean predicted SD (SI).
+struct Calibration {
+  double within_1sd = 0, within_2sd = 0, mean_sd = 0;
+  int count = 0;
+};
+
 struct MethodEvaluation {
   std::map<std::string, ErrorStats> inputs;    // keyed by ANSUR-style name (stature, weight, span, …)
+  // The same inputs against the noise-free value (what the person really measures, through the
+  // model's real → virtual map): differs from `inputs` only under simulated noise.
+  std::map<std::string, ErrorStats> inputs_vs_truth;
   std::map<std::string, ErrorStats> held_out;  // ANSUR columns + inputs the method did not use
   double implausible_share = 0;
   int failures = 0;  // subjects the method could not build (reported, not hidden)
+  std::map<std::string, Calibration> calibration;  // "map" only: held-out columns and inputs (vs the noise-free value)
 };
 
 struct EvaluationOptions {
-  std::vector<std::string> regressors = {"R2", "R4", "R5", "R6"};
+  std::vector<std::string> regressors = {"R2", "R4", "R5", "R6"};  // presets, "auto" or "map"
   MeasurementNoise noise = MeasurementNoise::None;
+  // The noise setting the "map" estimator assumes (exact | self | other); empty: the simulated
+  // noise's own (none → exact, self → self, other → other).
+  std::string map_noise;
   std::uint64_t seed = 1;
   int threads = 2;
   bool baselines = true;  // the mean body scaled to the stature, and R2
@@ -63,14 +80,15 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
 
 // The JSON of issue 5: {"subjects": n, "regressors": {"R5": {"inputs": {"stature": {"mae_cm",
 // "max_cm"}, …, "weight": {"mae_kg", "max_kg"}}, "held_out": {col: {"mae_cm", "bias_cm"}},
-// "implausible_share": …}}, "baselines": {…}}.
+// "implausible_share": …}}, "baselines": {…}}; "map" also has "calibration": {key: {"within_1sd",
+// "within_2sd", "mean_sd_cm" | "mean_sd_kg", "n"}}.
 std::string evaluation_json(const Evaluation& evaluation, int indent = 2);
 
 // Synthetic study (Table 4 in spirit): `bodies` bodies drawn from the model's population
 // (β ~ N(0, I)), measured virtually, perturbed with the noise, rebuilt by each regressor, and
 // compared after the paper's alignment (common floor, bounding boxes centred in x and z) by the
 // distance between corresponding vertices (same topology; an upper bound of the surface-to-
-// surface distance).
+// surface distance). "map" assumes the noise setting map_noise_for(noise).
 struct SurfaceStats {
   double mean_cm = 0, max_cm = 0;  // mean over bodies of the mean / max vertex distance
   double worst_cm = 0;             // largest vertex distance seen in any body

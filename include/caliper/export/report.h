@@ -1,5 +1,7 @@
 // The JSON report of an avatar (README "Report format"): model, sex, regressor, β, plausibility,
-// and every measurement the model knows, requested beside achieved, in cm and kg.
+// and every measurement the model knows, requested beside achieved, in cm and kg; "warnings";
+// with the "map" estimator also "uncertainty_cm"/"uncertainty_kg" per measurement (posterior SD)
+// and an "uncertainty" object (noise setting, per-input fit, β SDs, vertex SD summary).
 #pragma once
 #include <string>
 

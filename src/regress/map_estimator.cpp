@@ -1,0 +1,439 @@
+// The noise-aware MAP estimator with uncertainty (issue 7). Method: Gaussian prior β ~ N(0, I)
+// of the shape space (paper §3.4.1), Gaussian measurement noise with the paper's Table 2 errors
+// (§4.1), the measurement functions of §3.4.2 linearised by forward differences in β and
+// minimised by Levenberg–Marquardt; Laplace approximation of the posterior at the optimum.
+#include "caliper/regress/map_estimator.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "caliper/errors.h"
+#include "caliper/measure/catalogue.h"
+#include "caliper/measure/measure.h"
+
+namespace caliper {
+
+NoiseSetting parse_noise_setting(const std::string& text) {
+  std::string t = text;
+  for (auto& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (t == "exact") return NoiseSetting::Exact;
+  if (t == "self") return NoiseSetting::Self;
+  if (t == "other") return NoiseSetting::Other;
+  throw Error(ErrorKind::InvalidArgument, "noise must be exact, self or other (got '" + text + "')", "noise");
+}
+
+const char* to_string(NoiseSetting setting) {
+  switch (setting) {
+    case NoiseSetting::Exact: return "exact";
+    case NoiseSetting::Self: return "self";
+    case NoiseSetting::Other: return "other";
+  }
+  return "self";
+}
+
+std::map<std::string, double> table2_sd(NoiseSetting setting) {
+  // Paper Table 2, MAE in metres; a zero-mean Gaussian's MAE is SD·√(2/π), so SD = MAE·√(π/2).
+  std::map<std::string, double> mae;
+  if (setting == NoiseSetting::Self)
+    mae = {{"stature", 0.0153}, {"span", 0.0201}, {"arm_length", 0.0129}, {"crotch_height", 0.0206}, {"hip_breadth", 0.0077}};
+  else if (setting == NoiseSetting::Other)
+    mae = {{"stature", 0.0147}, {"span", 0.0172}, {"arm_length", 0.0076}, {"crotch_height", 0.0246}, {"hip_breadth", 0.0065}};
+  for (auto& [name, v] : mae) v *= std::sqrt(M_PI / 2);
+  return mae;
+}
+
+double default_noise_sd(const BodyModel& model, const std::string& measurement, NoiseSetting setting) {
+  const MeasurementDefinition* def = model.find_measurement(measurement);
+  if (!def) throw Error(ErrorKind::Unsupported, "model '" + model.name() + "' cannot measure '" + measurement + "'", measurement);
+  const bool kg = def->kind == MeasurementKind::Weight;
+  // The noise floor of "exact" inputs: small enough that they are reproduced to well under a
+  // millimetre (as the regressors reproduce theirs), large enough to keep the system well scaled.
+  if (setting == NoiseSetting::Exact) return kg ? 0.01 : 1e-4;
+  const auto table = table2_sd(setting);
+  if (auto it = table.find(measurement); it != table.end()) return it->second;
+  switch (def->kind) {
+    case MeasurementKind::Weight: return 1.0;
+    case MeasurementKind::Height:
+    case MeasurementKind::Length: return 0.015;
+    case MeasurementKind::Breadth:
+    case MeasurementKind::Depth: return 0.010;
+    case MeasurementKind::Circumference: return setting == NoiseSetting::Self ? 0.015 : 0.010;
+  }
+  return 0.015;
+}
+
+MapEstimator::MapEstimator(std::shared_ptr<const BodyModel> model) : model_(std::move(model)) {
+  if (!model_) throw Error(ErrorKind::InvalidArgument, "no body model", "model");
+  for (const auto& d : model_->data().measurements) all_measurements_.push_back(d.name);
+}
+
+// Defined below, with the other helpers.
+namespace {
+Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const Vertices& rest, const std::vector<std::string>& which,
+                                     Eigen::VectorXd& base);
+}
+
+const MapEstimator::Linearisation& MapEstimator::at_mean() const {
+  std::call_once(mean_once_, [this] {
+    const Vertices rest = model_->rest_vertices(Eigen::VectorXd::Zero(model_->shape_count()));
+    mean_.j0 = measurement_jacobian(*model_, rest, all_measurements_, mean_.m0);
+  });
+  return mean_;
+}
+
+namespace {
+
+// Measuring plan for finite differences around one body: sections cut only the band of faces
+// within 2 cm of their plane (a 0.01 SD step moves no vertex by more than a millimetre, so every
+// face the shifted plane crosses is in the band), and weight differentiates the volume exactly.
+struct Planned {
+  const MeasurementDefinition* def = nullptr;
+  Faces band;         // sections only
+  bool section = false;
+};
+
+std::vector<Planned> plan_measurements(const BodyModel& model, const std::vector<std::string>& which, const Vertices& rest) {
+  std::vector<Planned> plan;
+  for (const auto& name : which) {
+    Planned p;
+    p.def = model.find_measurement(name);
+    const auto kind = p.def->kind;
+    p.section = (kind == MeasurementKind::Breadth || kind == MeasurementKind::Depth ||
+                 kind == MeasurementKind::Circumference) && !p.def->landmarks.empty();
+    if (p.section) {
+      const int axis = static_cast<int>(p.def->plane_normal);
+      const double c = rest(model.landmark(p.def->landmarks[0]), axis);
+      constexpr double kMargin = 0.02;
+      const Faces& faces = model.faces();
+      std::vector<Eigen::Index> keep;
+      for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+        const double a = rest(faces(f, 0), axis), b = rest(faces(f, 1), axis), d = rest(faces(f, 2), axis);
+        if (std::min({a, b, d}) <= c + kMargin && std::max({a, b, d}) >= c - kMargin) keep.push_back(f);
+      }
+      p.band.resize(static_cast<Eigen::Index>(keep.size()), 3);
+      for (size_t i = 0; i < keep.size(); ++i) p.band.row(static_cast<Eigen::Index>(i)) = faces.row(keep[i]);
+    }
+    plan.push_back(std::move(p));
+  }
+  return plan;
+}
+
+double measure_planned(const BodyModel& model, const Planned& p, const Vertices& rest) {
+  return p.section ? measure(model, *p.def, rest, p.band) : measure(model, *p.def, rest);
+}
+
+// ∂weight/∂β exactly: weight = a·V + b, V = Σ_f a·(b × c)/6, so ∂V/∂v sums (b × c)/6 over the
+// faces at v (cyclically), and ∂V/∂β = Sᵀ ∂V/∂v.
+Eigen::RowVectorXd weight_gradient(const BodyModel& model, const Vertices& rest, int k) {
+  Eigen::VectorXd grad = Eigen::VectorXd::Zero(rest.size());
+  const Faces& faces = model.faces();
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const int i0 = faces(f, 0), i1 = faces(f, 1), i2 = faces(f, 2);
+    const Eigen::Vector3d a = rest.row(i0), b = rest.row(i1), c = rest.row(i2);
+    grad.segment<3>(3 * i0) += b.cross(c) / 6;
+    grad.segment<3>(3 * i1) += c.cross(a) / 6;
+    grad.segment<3>(3 * i2) += a.cross(b) / 6;
+  }
+  return model.data().weight_from_volume.a * (grad.transpose() * model.data().shape_directions.leftCols(k));
+}
+
+// J = ∂m/∂β (|which| × K) at rest vertices T(β), by forward differences; sets `base` = m(β).
+// The shifted bodies are T(β) + h·S_j in double precision, so each difference is exactly the
+// step along S_j (the float rounding of T(β) itself cancels). Vertices are linear in β, the
+// measurements nearly so; h = 0.01 SD moves a vertex by well under a millimetre.
+Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const Vertices& rest, const std::vector<std::string>& which,
+                                     Eigen::VectorXd& base) {
+  constexpr double kStep = 1e-2;
+  const int k = model.shape_count();
+  const auto plan = plan_measurements(model, which, rest);
+  const auto m = static_cast<Eigen::Index>(which.size());
+  base.resize(m);
+  Eigen::MatrixXd jac(m, k);
+  std::vector<Eigen::Index> by_difference;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    base(i) = measure_planned(model, plan[static_cast<size_t>(i)], rest);
+    if (plan[static_cast<size_t>(i)].def->kind == MeasurementKind::Weight) jac.row(i) = weight_gradient(model, rest, k);
+    else by_difference.push_back(i);
+  }
+  if (by_difference.empty()) return jac;
+  Vertices shifted;
+  const Eigen::MatrixXd& directions = model.data().shape_directions;
+  for (int j = 0; j < k; ++j) {
+    shifted = rest;
+    Eigen::Map<Eigen::VectorXd>(shifted.data(), shifted.size()) += kStep * directions.col(j);
+    for (Eigen::Index i : by_difference)
+      jac(i, j) = (measure_planned(model, plan[static_cast<size_t>(i)], shifted) - base(i)) / kStep;
+  }
+  return jac;
+}
+
+// Words for "the input is larger / smaller than the rest allow".
+std::pair<const char*, const char*> comparatives(MeasurementKind kind) {
+  switch (kind) {
+    case MeasurementKind::Weight: return {"heavier", "lighter"};
+    case MeasurementKind::Breadth: return {"wider", "narrower"};
+    case MeasurementKind::Depth: return {"deeper", "shallower"};
+    case MeasurementKind::Circumference: return {"larger", "smaller"};
+    default: return {"longer", "shorter"};
+  }
+}
+
+std::string edge_text(const std::string& name, double si) {
+  const MeasurementInfo* info = find_measurement_info(name);
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(1);
+  if (info) s << si_to_edge(*info, si) << " " << edge_unit(*info);
+  else s << si * 100 << " cm";
+  return s.str();
+}
+
+}  // namespace
+
+MapEstimate MapEstimator::estimate(const std::map<std::string, double>& values, const MapOptions& options) const {
+  const BodyModel& model = *model_;
+  if (values.empty()) throw Error(ErrorKind::InvalidArgument, "the map estimator needs at least one measurement", "measurements");
+  std::vector<std::string> names;
+  Eigen::VectorXd y(static_cast<Eigen::Index>(values.size())), sd(y.size());
+  for (const auto& [name, value] : values) {
+    if (!model.find_measurement(name))
+      throw Error(ErrorKind::Unsupported, "model '" + model.name() + "' cannot measure '" + name + "'", name);
+    if (!std::isfinite(value)) throw Error(ErrorKind::InvalidArgument, name + " must be a finite number", name);
+    const auto i = static_cast<Eigen::Index>(names.size());
+    y(i) = value;
+    auto o = options.noise_sd.find(name);
+    if (o != options.noise_sd.end()) {
+      if (!std::isfinite(o->second) || o->second <= 0)
+        throw Error(ErrorKind::InvalidArgument, "the noise SD of " + name + " must be a positive number", name);
+      sd(i) = o->second;
+    } else {
+      sd(i) = default_noise_sd(model, name, options.noise);
+    }
+    names.push_back(name);
+  }
+  for (const auto& [name, s] : options.noise_sd)
+    if (!values.count(name) && !(std::isfinite(s) && s > 0))
+      throw Error(ErrorKind::InvalidArgument, "the noise SD of " + name + " must be a positive number", name);
+  if (options.max_iterations < 1)
+    throw Error(ErrorKind::OutOfRange, "max_iterations must be at least 1", "max_iterations");
+
+  const int k = model.shape_count();
+  const Eigen::Index n = y.size();
+  const Eigen::VectorXd w_nominal = sd.array().square().inverse().matrix();  // diag(σ⁻²)
+  Eigen::VectorXd w = w_nominal;  // effective weights (the gross-error stage lowers an outlier's)
+  Vertices rest;
+
+  auto measure_rest = [&](const Vertices& r, const std::vector<std::string>& which) {
+    const auto m = measure_some(model, which, r);
+    Eigen::VectorXd out(static_cast<Eigen::Index>(which.size()));
+    for (size_t i = 0; i < which.size(); ++i) out(static_cast<Eigen::Index>(i)) = m.at(which[i]);
+    return out;
+  };
+  // Measures `which` on the body of β (SI, weight in kg), in the order of `which`.
+  auto measure_at = [&](const Eigen::VectorXd& beta, const std::vector<std::string>& which) {
+    model.rest_vertices(beta, rest);
+    return measure_rest(rest, which);
+  };
+  auto objective = [&](const Eigen::VectorXd& beta, const Eigen::VectorXd& m) {
+    return (m - y).cwiseProduct(w).dot(m - y) + beta.squaredNorm();
+  };
+  auto jacobian = [&](const Eigen::VectorXd& beta, const std::vector<std::string>& which, Eigen::VectorXd& base) {
+    model.rest_vertices(beta, rest);
+    return measurement_jacobian(model, rest, which, base);
+  };
+
+  MapEstimate est;
+  Eigen::VectorXd beta = Eigen::VectorXd::Zero(k);
+  Eigen::VectorXd m;
+  // Levenberg–Marquardt on the objective with the current weights, from the current β.
+  auto minimise = [&]() {
+    double f = objective(beta, m);
+    double lambda = 1e-4;
+    bool done = false;
+    for (int it = 0; it < options.max_iterations && !done; ++it) {
+      ++est.iterations;
+      Eigen::VectorXd at_beta;
+      const Eigen::MatrixXd jac = jacobian(beta, names, at_beta);
+      const Eigen::MatrixXd h = jac.transpose() * w.asDiagonal() * jac + Eigen::MatrixXd::Identity(k, k);
+      const Eigen::VectorXd grad = jac.transpose() * w.asDiagonal() * (m - y) + beta;
+      bool accepted = false;
+      while (!accepted && lambda < 1e10) {
+        Eigen::MatrixXd damped = h;
+        damped.diagonal() *= 1 + lambda;
+        const Eigen::VectorXd step = -damped.ldlt().solve(grad);
+        const Eigen::VectorXd trial = beta + step;
+        Eigen::VectorXd mt;
+        double ft = std::numeric_limits<double>::infinity();
+        try {
+          mt = measure_at(trial, names);
+          ft = objective(trial, mt);
+        } catch (const Error&) {
+          // A section that misses the body at an extreme trial shape: reject the step.
+        }
+        if (std::isfinite(ft) && ft <= f) {
+          accepted = true;
+          const double decrease = f - ft;
+          beta = trial;
+          m = mt;
+          f = ft;
+          lambda = std::max(lambda / 10, 1e-9);
+          // Converged when the step no longer moves β or the objective.
+          // 1e-3 SD moves no vertex by more than ~0.05 mm.
+          if (step.norm() < 1e-3 || decrease <= 1e-9 * (1 + f)) done = true;
+        } else {
+          lambda *= 10;
+        }
+      }
+      if (!accepted) done = true;  // no descent left: at the optimum to finite-difference precision
+    }
+    return done;
+  };
+
+  // Each input against what the others (and the prior) predict for it, linearised: removing its
+  // term moves β̂ by one Newton step, H₋ᵢ⁻¹ gᵢ (mᵢ − yᵢ) wᵢ, with H₋ᵢ = H − gᵢgᵢᵀwᵢ.
+  struct LeaveOneOut {
+    Eigen::VectorXd expected, variance;  // the others' prediction and its variance, per input
+  };
+  auto leave_one_out = [&](const Eigen::MatrixXd& jin, const Eigen::VectorXd& fitted) {
+    const Eigen::MatrixXd h = jin.transpose() * w.asDiagonal() * jin + Eigen::MatrixXd::Identity(k, k);
+    LeaveOneOut loo{Eigen::VectorXd(n), Eigen::VectorXd(n)};
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Eigen::VectorXd g = jin.row(i).transpose();
+      const Eigen::MatrixXd h_without = h - g * g.transpose() * w(i);
+      loo.variance(i) = std::max(0.0, g.dot(h_without.ldlt().solve(g)));
+      loo.expected(i) = fitted(i) + loo.variance(i) * (fitted(i) - y(i)) * w(i);
+    }
+    return loo;
+  };
+
+  // Gross errors (a landmark missed, a value typed wrong): each input is, with probability
+  // ε (2 % by default), off by a much wider N(0, (10σ)²) instead of N(0, σ²). The posterior under this
+  // mixture is approximated EM-style: an input's responsibility for a gross error is judged
+  // against the prediction of the *other* inputs (leave-one-out, so an outlier cannot vouch for
+  // itself), its weight becomes the expected precision, and β is re-solved. Consistent inputs
+  // keep ≈ their full weight; one 6 SD away from the rest is all but set aside, so it cannot
+  // drag the body out of the population. Exact inputs are taken as exact (no gross errors).
+  const double kGrossRate = options.gross_error_rate, kGrossScale = 10.0;
+  if (!(kGrossRate >= 0 && kGrossRate < 0.5))
+    throw Error(ErrorKind::OutOfRange, "gross_error_rate must be in [0, 0.5)", "gross_error_rate");
+  const bool robust = kGrossRate > 0 && options.noise != NoiseSetting::Exact;
+  constexpr double kSettled = 0.05;
+  // New weights from the responsibilities at the current fit; returns the largest relative change.
+  auto update_weights = [&](const Eigen::MatrixXd& jin, const Eigen::VectorXd& fitted) {
+    const LeaveOneOut loo = leave_one_out(jin, fitted);
+    Eigen::VectorXd w_new(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double s2 = sd(i) * sd(i), d = y(i) - loo.expected(i);
+      const double v_good = s2 + loo.variance(i), v_gross = kGrossScale * kGrossScale * s2 + loo.variance(i);
+      // log N(d; 0, v) up to the common constant; the ratio is computed in logs (d may be huge).
+      const double l_good = std::log(1 - kGrossRate) - 0.5 * (d * d / v_good + std::log(v_good));
+      const double l_gross = std::log(kGrossRate) - 0.5 * (d * d / v_gross + std::log(v_gross));
+      const double gross = 1.0 / (1.0 + std::exp(l_good - l_gross));
+      w_new(i) = (1 - gross) / s2 + gross / (kGrossScale * kGrossScale * s2);
+    }
+    // EM has settled when no weight would move by more than 5 %: then the weights stay those β
+    // was solved with.
+    const double change = (w_new.array() / w.array() - 1).abs().maxCoeff();
+    if (change >= kSettled) w = w_new;
+    return change;
+  };
+
+  // Warm start on the model linearised at the mean body (cached per model): the linear-Gaussian
+  // MAP, and its gross-error weights, cost no measuring at all; the nonlinear solve then needs
+  // only a step or two.
+  {
+    const Linearisation& lin = at_mean();
+    Eigen::VectorXd m0(n);
+    Eigen::MatrixXd j0(n, k);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto pos = std::find(all_measurements_.begin(), all_measurements_.end(), names[static_cast<size_t>(i)]) - all_measurements_.begin();
+      m0(i) = lin.m0(pos);
+      j0.row(i) = lin.j0.row(pos);
+    }
+    for (int round = 0; round < 8; ++round) {
+      const Eigen::MatrixXd h = j0.transpose() * w.asDiagonal() * j0 + Eigen::MatrixXd::Identity(k, k);
+      beta = h.ldlt().solve(j0.transpose() * w.asDiagonal() * (y - m0));
+      if (!robust || update_weights(j0, m0 + j0 * beta) < kSettled) break;
+    }
+    try {
+      m = measure_at(beta, names);
+    } catch (const Error&) {  // a start so extreme that a section misses the body: start at the mean
+      beta.setZero();
+      m = measure_at(beta, names);
+    }
+  }
+  est.converged = minimise();
+
+  // The Laplace posterior at β̂, with the inputs and the wanted measurements linearised together;
+  // the same Jacobian checks whether the gross-error weights have settled (else: solve again).
+  std::vector<std::string> wanted = names;
+  if (options.measurement_uncertainty) {
+    const auto& extra = options.uncertainty_of.empty() ? all_measurements_ : options.uncertainty_of;
+    for (const auto& name : extra)
+      if (model.find_measurement(name) && std::find(wanted.begin(), wanted.end(), name) == wanted.end()) wanted.push_back(name);
+  }
+  Eigen::VectorXd base;
+  Eigen::MatrixXd jall;
+  for (int round = 0;; ++round) {
+    jall = jacobian(beta, wanted, base);
+    if (!robust || round == 8 || update_weights(jall.topRows(n), base.head(n)) < kSettled) break;
+    est.converged = minimise() && est.converged;
+  }
+  const Eigen::MatrixXd jin = jall.topRows(n);
+  const Eigen::MatrixXd h = jin.transpose() * w.asDiagonal() * jin + Eigen::MatrixXd::Identity(k, k);
+  est.beta = beta;
+  est.covariance = h.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+  est.covariance = (est.covariance + est.covariance.transpose()) / 2;
+  if (options.measurement_uncertainty)
+    for (size_t i = 0; i < wanted.size(); ++i) {
+      const Eigen::RowVectorXd g = jall.row(static_cast<Eigen::Index>(i));
+      est.measurement_sd[wanted[i]] = std::sqrt(std::max(0.0, (g * est.covariance * g.transpose())(0, 0)));
+    }
+
+  const LeaveOneOut loo = leave_one_out(jin, base.head(n));
+  std::vector<std::pair<double, std::string>> culprits;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    MapInputFit fit;
+    fit.value = y(i);
+    fit.noise_sd = sd(i);
+    fit.effective_sd = 1.0 / std::sqrt(w(i));
+    fit.fitted = base(i);
+    fit.expected = loo.expected(i);
+    fit.expected_sd = std::sqrt(loo.variance(i));
+    fit.z = (fit.value - fit.expected) / std::sqrt(sd(i) * sd(i) + loo.variance(i));
+    est.inputs[names[static_cast<size_t>(i)]] = fit;
+    if (std::abs(fit.z) > options.warn_sd) culprits.emplace_back(std::abs(fit.z), names[static_cast<size_t>(i)]);
+  }
+  std::sort(culprits.begin(), culprits.end(), [](const auto& p, const auto& q) { return p.first > q.first; });
+  for (size_t c = 0; c < culprits.size(); ++c) {
+    const std::string& name = culprits[c].second;
+    const MapInputFit& fit = est.inputs.at(name);
+    const auto [more, less] = comparatives(model.find_measurement(name)->kind);
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(1);
+    s << (c == 0 ? "" : "also: ") << name << " is " << std::abs(fit.z) << " SD " << (fit.z > 0 ? more : less)
+      << " than the other measurements and the body model's population allow (given " << edge_text(name, fit.value)
+      << "; they suggest " << edge_text(name, fit.expected) << " ± " << edge_text(name, fit.expected_sd)
+      << "); the avatar reconciles it at " << edge_text(name, fit.fitted);
+    if (fit.effective_sd > 2 * fit.noise_sd) s << ", treating it as a probable measurement error";
+    est.warnings.push_back(s.str());
+  }
+  if (!est.converged)
+    est.warnings.push_back("the estimate did not converge in " + std::to_string(options.max_iterations) + " iterations");
+
+  if (options.vertex_uncertainty) {
+    // Vertices are linear in β: cov(v) = S_v Σ S_vᵀ; with Σ = L Lᵀ its trace is ‖S_v L‖²_F.
+    const Eigen::MatrixXd l = Eigen::LLT<Eigen::MatrixXd>(est.covariance).matrixL();
+    const Eigen::MatrixXd p = model.data().shape_directions.leftCols(k) * l;  // 3N×K
+    est.vertex_sd.resize(model.vertex_count());
+    for (int v = 0; v < model.vertex_count(); ++v) est.vertex_sd(v) = std::sqrt(p.middleRows(3 * v, 3).squaredNorm());
+  }
+  return est;
+}
+
+}  // namespace caliper
