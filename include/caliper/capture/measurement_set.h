@@ -1,0 +1,31 @@
+// Measurement-set files: a person's values in centimetres and kilograms, the desktop tool's
+// import/export format (docs/api.md "Measurement sets"). Capture exports them; `caliper avatar
+// --measurements FILE` reads them.
+//   JSON: {"format": "caliper-measurements", "version": 1, "sex": "female"|null, "model": null,
+//          "units": "lengths in cm, weight in kg", "measurements": {"stature": 165, …}}
+//   CSV:  measurement,value,unit / sex,female, / stature,165,cm …
+#pragma once
+#include <map>
+#include <optional>
+#include <string>
+
+#include "caliper/body/body_model.h"
+
+namespace caliper {
+
+struct MeasurementSetFile {
+  std::optional<Sex> sex;
+  std::map<std::string, double> edge;  // canonical name → cm or kg
+};
+
+// Written in catalogue order; values rounded to 0.1 mm / 0.1 g.
+std::string write_measurement_set_json(const MeasurementSetFile& set);
+std::string write_measurement_set_csv(const MeasurementSetFile& set);
+
+// Reads either format (JSON if the text starts with '{'). Accepts aliases, a flat JSON object,
+// units cm/mm/m/in and kg/g/lb in CSV. Throws Error(Format) for a malformed file and
+// Error(InvalidArgument|OutOfRange) naming the measurement for a bad value.
+MeasurementSetFile parse_measurement_set(const std::string& text);
+MeasurementSetFile read_measurement_set(const std::string& path);  // + Error(Io)
+
+}  // namespace caliper

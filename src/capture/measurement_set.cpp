@@ -1,0 +1,178 @@
+// Measurement-set files (docs/api.md "Measurement sets"), for capture exports and
+// `caliper avatar --measurements`.
+#include "caliper/capture/measurement_set.h"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vector>
+
+#include "caliper/errors.h"
+#include "caliper/measure/catalogue.h"
+
+namespace caliper {
+
+namespace {
+
+std::string lower_trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r\n\"");
+  if (a == std::string::npos) return {};
+  const size_t b = s.find_last_not_of(" \t\r\n\"");
+  std::string t = s.substr(a, b - a + 1);
+  for (auto& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return t;
+}
+
+// Divides by the integer 1/step so 172.3 prints as 172.3, not 172.30000000000001.
+double round_to(double v, double step) {
+  const double inverse = std::round(1.0 / step);
+  return std::round(v * inverse) / inverse;
+}
+
+std::string number(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << round_to(v, 1e-4);
+  return os.str();
+}
+
+double to_edge(const MeasurementInfo& info, double v, const std::string& unit_text, const std::string& where) {
+  const std::string unit = lower_trim(unit_text);
+  if (unit.empty()) return v;
+  if (info.unit == Unit::Kilogram) {
+    if (unit == "kg") return v;
+    if (unit == "g") return v / 1000;
+    if (unit == "lb" || unit == "lbs") return v * 0.45359237;
+  } else {
+    if (unit == "cm") return v;
+    if (unit == "mm") return v / 10;
+    if (unit == "m") return v * 100;
+    if (unit == "in" || unit == "inch") return v * 2.54;
+  }
+  throw Error(ErrorKind::Format, where + ": unit '" + unit_text + "' does not fit " + info.name + " (use " + edge_unit(info) + ")", info.name);
+}
+
+void add(MeasurementSetFile& set, const std::string& name, double v, const std::string& unit, const std::string& where) {
+  const MeasurementInfo* info = find_measurement_info(name);
+  if (!info) throw Error(ErrorKind::Format, where + ": unknown measurement '" + name + "'", name);
+  if (set.edge.count(info->name)) throw Error(ErrorKind::Format, where + ": " + info->name + " is given twice", info->name);
+  const double e = to_edge(*info, v, unit, where);
+  edge_to_si(*info, e);  // range check naming the field
+  set.edge[info->name] = e;
+}
+
+Sex sex_of(const std::string& text, const std::string& where) {
+  const std::string t = lower_trim(text);
+  if (t == "female" || t == "f") return Sex::Female;
+  if (t == "male" || t == "m") return Sex::Male;
+  throw Error(ErrorKind::Format, where + ": sex must be female or male (got '" + text + "')", "sex");
+}
+
+MeasurementSetFile parse_json(const std::string& text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(ErrorKind::Format, std::string("measurement set: not valid JSON: ") + e.what(), "measurements");
+  }
+  if (!j.is_object()) throw Error(ErrorKind::Format, "measurement set: expected a JSON object", "measurements");
+  MeasurementSetFile set;
+  if (j.contains("sex") && j["sex"].is_string()) set.sex = sex_of(j["sex"].get<std::string>(), "sex");
+  const bool nested = j.contains("measurements");
+  const nlohmann::json& m = nested ? j["measurements"] : j;
+  if (!m.is_object()) throw Error(ErrorKind::Format, "measurement set: measurements must be an object", "measurements");
+  for (const auto& [name, value] : m.items()) {
+    if (!nested && (name == "sex" || name == "model" || name == "format" || name == "version" || name == "units" || name == "warnings"))
+      continue;
+    if (value.is_null()) continue;
+    if (!value.is_number()) throw Error(ErrorKind::Format, "measurements." + name + " must be a number (cm or kg)", name);
+    add(set, name, value.get<double>(), "", "measurements." + name);
+  }
+  return set;
+}
+
+MeasurementSetFile parse_csv(const std::string& text) {
+  MeasurementSetFile set;
+  std::stringstream ss(text);
+  std::string line;
+  int line_no = 0;
+  while (std::getline(ss, line)) {
+    ++line_no;
+    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line = line.substr(3);
+    const std::string t = lower_trim(line);
+    if (t.empty() || t[0] == '#') continue;
+    const char sep = line.find(',') != std::string::npos ? ',' : (line.find(';') != std::string::npos ? ';' : '\t');
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    std::string cell;
+    while (std::getline(ls, cell, sep)) cells.push_back(cell);
+    const std::string where = "line " + std::to_string(line_no);
+    const std::string first = lower_trim(cells[0]);
+    if (first == "measurement" || first == "name" || first == "model") continue;
+    if (first == "sex") {
+      if (cells.size() < 2) throw Error(ErrorKind::Format, where + ": sex needs a value", "sex");
+      set.sex = sex_of(cells[1], where);
+      continue;
+    }
+    if (cells.size() < 2) throw Error(ErrorKind::Format, where + ": expected measurement,value[,unit]", first);
+    const std::string value = lower_trim(cells[1]);
+    double v = 0;
+    size_t used = 0;
+    try {
+      v = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (value.empty() || used != value.size())
+      throw Error(ErrorKind::Format, where + ": the value of " + first + " is not a number ('" + cells[1] + "')", first);
+    add(set, first, v, cells.size() >= 3 ? cells[2] : "", where);
+  }
+  return set;
+}
+
+}  // namespace
+
+std::string write_measurement_set_json(const MeasurementSetFile& set) {
+  nlohmann::ordered_json j;
+  j["format"] = "caliper-measurements";
+  j["version"] = 1;
+  j["sex"] = set.sex ? nlohmann::ordered_json(to_string(*set.sex)) : nlohmann::ordered_json(nullptr);
+  j["model"] = nullptr;
+  j["units"] = "lengths in cm, weight in kg";
+  nlohmann::ordered_json m = nlohmann::ordered_json::object();
+  for (const auto& info : measurement_catalogue()) {
+    auto it = set.edge.find(info.name);
+    if (it != set.edge.end()) m[info.name] = round_to(it->second, 1e-4);
+  }
+  j["measurements"] = m;
+  return j.dump(2) + "\n";
+}
+
+std::string write_measurement_set_csv(const MeasurementSetFile& set) {
+  std::string out = "measurement,value,unit\n";
+  if (set.sex) out += std::string("sex,") + to_string(*set.sex) + ",\n";
+  for (const auto& info : measurement_catalogue()) {
+    auto it = set.edge.find(info.name);
+    if (it != set.edge.end()) out += info.name + "," + number(it->second) + "," + edge_unit(info) + "\n";
+  }
+  return out;
+}
+
+MeasurementSetFile parse_measurement_set(const std::string& text) {
+  const size_t a = text.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) throw Error(ErrorKind::Format, "the measurement set is empty", "measurements");
+  MeasurementSetFile set = text[a] == '{' ? parse_json(text) : parse_csv(text);
+  if (set.edge.empty()) throw Error(ErrorKind::Format, "the measurement set has no measurements", "measurements");
+  return set;
+}
+
+MeasurementSetFile read_measurement_set(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::Io, "cannot read measurement set '" + path + "'", path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_measurement_set(ss.str());
+}
+
+}  // namespace caliper

@@ -1,0 +1,284 @@
+// Capture storage and sessions: SQLite durability (a process killed mid-session resumes with
+// the same values), undo/redo across processes, pairing codes never stored in clear, corrupt and
+// foreign files refused and left untouched, the default data path, measurement-set files, and
+// the SHA-256 used for pairing codes (FIPS 180-2 test vectors).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+
+#include "../../src/capture/sha256.h"
+#include "caliper/capture/measurement_set.h"
+#include "caliper/capture/service.h"
+#include "caliper/errors.h"
+#include "temp_files.h"
+#include "test_capture_script.h"
+
+namespace caliper::capture {
+namespace {
+
+using test::SampleScript;
+using test::ScriptedPerson;
+using test::TempDir;
+
+const Eigen::Vector3d kTouchPlus = ProfileRegistry::builtin().find("meta-quest-touch-plus")->tip_offset;
+
+CaptureServiceOptions options_for(const std::string& db) {
+  CaptureServiceOptions o;
+  o.database = db;
+  return o;
+}
+
+void feed_script(CaptureService& svc, const std::string& id, SampleScript& s) {
+  for (const auto& b : s.batches()) ASSERT_TRUE(svc.feed(id, b, {"meta-quest-touch-plus"}));
+}
+
+TEST(CaptureSha256, MatchesTheStandardTestVectors) {
+  EXPECT_EQ(detail::sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(detail::sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(detail::sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(detail::sha256_hex(std::string(1000000, 'a')), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+}
+
+// A child process measures half a session and is killed (SIGKILL: no destructor, no close);
+// a new service on the same file resumes and finishes. The result equals an uninterrupted run.
+TEST(CaptureStore, ASessionKilledMidwayResumesWithTheSameValues) {
+  TempDir dir;
+  const std::string db = dir / "sessions.db";
+  ScriptedPerson person;
+  std::string id, code;
+  {
+    CaptureService svc(options_for(db));
+    auto c = svc.create({Mode::Self, StepSet::Core, Sex::Male, std::nullopt, ""});
+    id = c.session.id;
+    code = c.pairing_code;
+  }
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    CaptureService svc(options_for(db));
+    SampleScript s(kTouchPlus, 21);
+    test::script_floor(s, person);
+    for (int rep = 0; rep < 2; ++rep) s.hold(1, person.head_top, 1.2);
+    s.hold(0, person.left_fingertip, 1.2, &person.right_fingertip);  // first span repetition
+    s.tip[1] = person.head_top;  // and a hold in progress when the process dies
+    s.trigger[1] = 1;
+    s.run(0.5);
+    for (const auto& b : s.batches()) svc.feed(id, b, {});
+    kill(getpid(), SIGKILL);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+
+  CaptureService resumed(options_for(db));
+  auto s0 = resumed.find(id);
+  ASSERT_TRUE(s0);
+  EXPECT_EQ(s0->protocol.points().size(), 8u);  // 5 floor taps, 2 statures, 1 span
+  ASSERT_TRUE(s0->protocol.current_step());
+  EXPECT_EQ(s0->protocol.current_step()->spec.name, "span");
+  EXPECT_EQ(s0->protocol.current_step()->repetition, 2);
+  EXPECT_TRUE(resumed.check_pairing(id, code));
+  SampleScript rest(kTouchPlus, 22);
+  rest.hold(0, person.left_fingertip, 1.2, &person.right_fingertip);
+  for (int rep = 0; rep < 2; ++rep) rest.hold(1, person.crotch, 1.2);
+  for (int rep = 0; rep < 2; ++rep) rest.hold(1, person.hip_right, 1.2, &person.hip_left);
+  for (int rep = 0; rep < 2; ++rep) rest.hold(0, person.wrist, 1.2, &person.acromion);
+  feed_script(resumed, id, rest);
+  auto done = resumed.set_entries(id, 80.0, std::nullopt);
+  ASSERT_TRUE(done);
+  EXPECT_EQ(done->protocol.state(), SessionState::Done);
+  const auto set = done->protocol.measurement_set();
+  EXPECT_NEAR(set.at("stature"), person.stature() * 100, 0.25);
+  EXPECT_NEAR(set.at("span"), person.span() * 100, 0.1);
+  EXPECT_NEAR(set.at("crotch_height"), person.crotch_height() * 100, 0.25);
+  EXPECT_NEAR(set.at("hip_breadth"), person.hip_breadth() * 100, 0.1);
+  EXPECT_NEAR(set.at("arm_length"), person.arm_length() * 100, 0.1);
+  EXPECT_DOUBLE_EQ(set.at("weight"), 80.0);
+
+  // The values written with each event are what the engine has; a third process agrees.
+  SessionStore store(db);
+  auto stored = store.load(id);
+  ASSERT_TRUE(stored);
+  EXPECT_EQ(stored->state, "done");
+  ASSERT_EQ(stored->values.size(), set.size());
+  for (const auto& [k, v] : set) EXPECT_DOUBLE_EQ(stored->values.at(k), v) << k;
+  CaptureService third(options_for(db));
+  EXPECT_EQ(third.find(id)->protocol.measurement_set(), set);
+}
+
+TEST(CaptureStore, UndoAndRedoSurviveARestart) {
+  TempDir dir;
+  const std::string db = dir / "sessions.db";
+  ScriptedPerson person;
+  std::string id;
+  {
+    CaptureService svc(options_for(db));
+    id = svc.create({}).session.id;
+    SampleScript s(kTouchPlus, 4);
+    test::script_floor(s, person);
+    feed_script(svc, id, s);
+    bool changed = false;
+    ASSERT_TRUE(svc.undo(id, &changed));
+    EXPECT_TRUE(changed);
+    svc.undo(id);
+  }
+  {
+    CaptureService svc(options_for(db));
+    auto s = svc.find(id);
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->protocol.points().size(), 3u);
+    EXPECT_EQ(s->protocol.redo_points().size(), 2u);
+    svc.redo(id);
+  }
+  CaptureService svc(options_for(db));
+  auto s = svc.find(id);
+  EXPECT_EQ(s->protocol.points().size(), 4u);
+  EXPECT_EQ(s->protocol.redo_points().size(), 1u);
+  bool changed = true;
+  svc.redo(id, &changed);
+  EXPECT_TRUE(changed);
+  svc.redo(id, &changed);
+  EXPECT_FALSE(changed);
+  EXPECT_TRUE(svc.find(id)->protocol.floor_m());
+}
+
+TEST(CaptureStore, PairingCodesAreSixDigitsCheckedAndNeverStoredInClear) {
+  TempDir dir;
+  const std::string db = dir / "sessions.db";
+  std::string id, code;
+  {
+    CaptureService svc(options_for(db));
+    auto c = svc.create({});
+    id = c.session.id;
+    code = c.pairing_code;
+    ASSERT_EQ(code.size(), 6u);
+    EXPECT_EQ(code.find_first_not_of("0123456789"), std::string::npos);
+    EXPECT_TRUE(svc.check_pairing(id, code));
+    std::string wrong = code;
+    wrong[0] = wrong[0] == '9' ? '0' : static_cast<char>(wrong[0] + 1);
+    EXPECT_FALSE(svc.check_pairing(id, wrong));
+    EXPECT_FALSE(svc.check_pairing(id, ""));
+    EXPECT_FALSE(svc.check_pairing("s-nope", code));
+    auto other = svc.create({});
+    EXPECT_NE(other.session.id, id);
+  }
+  SessionStore store(db);
+  const auto h = store.pairing_hash(id);
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->find(code), std::string::npos);
+  EXPECT_EQ(h->size(), 16u + 1u + 64u);  // salt $ sha-256 hex
+}
+
+TEST(CaptureStore, CorruptAndForeignFilesAreRefusedAndLeftUntouched) {
+  TempDir dir;
+  const std::string garbage = dir / "garbage.db";
+  const std::string text = std::string("this is not a database at all, but somebody's notes\n") + std::string(5000, 'x');
+  test::write_file(garbage, text);
+  try {
+    SessionStore s(garbage);
+    FAIL() << "opened a text file";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Format);
+    EXPECT_NE(std::string(e.what()).find("not a Caliper sessions database"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(test::read_file(garbage), text);
+
+  const std::string foreign = dir / "foreign.db";
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(foreign.c_str(), &db), SQLITE_OK);
+  sqlite3_exec(db, "CREATE TABLE recipes (name TEXT); INSERT INTO recipes VALUES ('soup');", nullptr, nullptr, nullptr);
+  sqlite3_close(db);
+  const std::string before = test::read_file(foreign);
+  try {
+    CaptureService svc(options_for(foreign));
+    FAIL() << "opened another application's database";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Format);
+    EXPECT_NE(std::string(e.what()).find("another application"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(test::read_file(foreign), before);
+
+  // A Caliper file whose pages were damaged after the header.
+  const std::string damaged = dir / "damaged.db";
+  {
+    CaptureService svc(options_for(damaged));
+    for (int i = 0; i < 30; ++i) svc.create({});
+  }
+  std::string bytes = test::read_file(damaged);
+  ASSERT_GT(bytes.size(), 8192u);
+  for (size_t i = 4096; i < bytes.size(); ++i) bytes[i] = static_cast<char>(i * 7);
+  test::write_file(damaged, bytes);
+  EXPECT_THROW(SessionStore s(damaged), Error);
+  EXPECT_EQ(test::read_file(damaged), bytes);
+}
+
+TEST(CaptureStore, DefaultPathFollowsXdgDataHome) {
+  const char* old_xdg = std::getenv("XDG_DATA_HOME");
+  const std::string saved = old_xdg ? old_xdg : "";
+  setenv("XDG_DATA_HOME", "/tmp/xdg-test", 1);
+  EXPECT_EQ(SessionStore::default_path(), "/tmp/xdg-test/caliper/sessions.db");
+  unsetenv("XDG_DATA_HOME");
+  const char* home = std::getenv("HOME");
+  if (home) {
+    EXPECT_EQ(SessionStore::default_path(), std::string(home) + "/.local/share/caliper/sessions.db");
+  }
+  if (old_xdg) setenv("XDG_DATA_HOME", saved.c_str(), 1);
+  EXPECT_EQ(SessionStore::path_in("/data/x"), "/data/x/sessions.db");
+}
+
+TEST(CaptureService, ListsNewestFirstAndDeletes) {
+  TempDir dir;
+  CaptureService svc(options_for(dir / "s.db"));
+  const std::string a = svc.create({}).session.id;
+  const std::string b = svc.create({Mode::Other, StepSet::All, Sex::Female, 55.0, "htc-vive"}).session.id;
+  auto list = svc.list();
+  ASSERT_EQ(list.size(), 2u);
+  std::vector<std::string> ids = {list[0].id, list[1].id};
+  EXPECT_NE(std::find(ids.begin(), ids.end(), a), ids.end());
+  auto sb = svc.find(b);
+  EXPECT_EQ(sb->profile, "htc-vive");
+  EXPECT_EQ(sb->protocol.steps_total(), 14);
+  EXPECT_EQ(*sb->protocol.weight_kg(), 55.0);
+  EXPECT_TRUE(svc.remove(a));
+  EXPECT_FALSE(svc.remove(a));
+  EXPECT_FALSE(svc.find(a));
+  EXPECT_EQ(svc.list().size(), 1u);
+  EXPECT_THROW(svc.create({Mode::Self, StepSet::Core, std::nullopt, std::nullopt, "no-such-controller"}), Error);
+  EXPECT_THROW(svc.create({Mode::Self, StepSet::Core, std::nullopt, 3000.0, ""}), Error);
+  EXPECT_THROW(svc.set_entries(b, std::nan(""), std::nullopt), Error);
+  EXPECT_EQ(*svc.find(b)->protocol.weight_kg(), 55.0);  // a refused entry changes nothing
+}
+
+TEST(MeasurementSetFile, RoundTripsJsonAndCsvAndChecksValues) {
+  MeasurementSetFile set;
+  set.sex = Sex::Female;
+  set.edge = {{"stature", 172.34}, {"weight", 61.5}, {"hip_breadth", 35.2}};
+  for (const std::string& text : {write_measurement_set_json(set), write_measurement_set_csv(set)}) {
+    const MeasurementSetFile back = parse_measurement_set(text);
+    EXPECT_EQ(back.sex, set.sex);
+    EXPECT_EQ(back.edge, set.edge) << text;
+  }
+  EXPECT_NE(write_measurement_set_json(set).find("\"format\": \"caliper-measurements\""), std::string::npos);
+  const MeasurementSetFile csv = parse_measurement_set("measurement,value,unit\nheight,1.72,m\nspan,1700,mm\nweight,132.27735731092,lb\n");
+  EXPECT_DOUBLE_EQ(csv.edge.at("stature"), 172.0);
+  EXPECT_DOUBLE_EQ(csv.edge.at("span"), 170.0);
+  EXPECT_NEAR(csv.edge.at("weight"), 60.0, 1e-9);
+  EXPECT_FALSE(csv.sex);
+  try {
+    parse_measurement_set("{\"measurements\": {\"stature\": 900}}");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "stature");
+  }
+  EXPECT_THROW(parse_measurement_set("stature,abc\n"), Error);
+  EXPECT_THROW(parse_measurement_set("{\"measurements\": {}}"), Error);
+  EXPECT_THROW(parse_measurement_set("{\"measurements\": {\"elbow_wobble\": 3}}"), Error);
+}
+
+}  // namespace
+}  // namespace caliper::capture
