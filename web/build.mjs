@@ -2,6 +2,8 @@
 // Builds the desktop tool's static files into web/dist: the page's own files from web/src and the
 // three.js modules it imports from node_modules (no CDN: the page works offline). There is no
 // bundler; an import map in index.html points the bare 'three' specifier at vendor/three/.
+// The WebXR capture page (capture.html, capture.js, capture.css) is copied the same way and uses
+// the same vendored three.js; iwer (the WebXR emulator) is a test-only devDependency, never copied.
 //
 //   node web/build.mjs          (after `npm ci` in web/, which scripts/install-deps.sh runs)
 import { cp, mkdir, rm, readFile, writeFile, access } from 'node:fs/promises';
@@ -36,6 +38,16 @@ for (const file of vendored) {
 await cp(join(three, 'examples', 'jsm', 'controls', 'OrbitControls.js'),
          join(dist, 'vendor', 'three', 'addons', 'OrbitControls.js'));
 await cp(join(three, 'LICENSE'), join(dist, 'vendor', 'three', 'LICENSE'));
+
+// Both pages must be there (a missing file would only show as a 404 in a headset).
+for (const page of ['index.html', 'app.js', 'style.css', 'capture.html', 'capture.js', 'capture.css']) {
+  try {
+    await access(join(dist, page));
+  } catch {
+    console.error(`web/build.mjs: web/src/${page} is missing`);
+    process.exit(2);
+  }
+}
 
 const pkg = JSON.parse(await readFile(join(three, 'package.json'), 'utf8'));
 await writeFile(join(dist, 'vendor', 'three', 'VERSION'), `three ${pkg.version} (MIT), copied from node_modules\n`);

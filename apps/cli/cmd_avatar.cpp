@@ -20,8 +20,9 @@ void print_summary(const BuiltAvatar& built, std::ostream& os) {
   const Avatar& a = built.avatar;
   os << "model " << built.model->name() << ", regressor " << a.regressor << ", shape "
      << to_string(a.plausibility.overall) << " (" << a.plausibility.explanation << ")\n";
+  const bool sd = !a.uncertainty.empty();
   os << std::left << std::setw(26) << "measurement" << std::right << std::setw(12) << "requested" << std::setw(12)
-     << "achieved" << "\n";
+     << "achieved" << (sd ? "     ± SD" : "") << "\n";
   for (const auto& [name, achieved] : a.achieved) {
     const MeasurementInfo* info = find_measurement_info(name);
     const double scale = info && info->unit == Unit::Kilogram ? 1.0 : 100.0;
@@ -30,8 +31,11 @@ void print_summary(const BuiltAvatar& built, std::ostream& os) {
     auto req = a.requested.find(name);
     if (req != a.requested.end()) os << std::setw(9) << req->second * scale << " " << unit;
     else os << std::setw(12) << "";
-    os << std::setw(9) << achieved * scale << " " << unit << "\n";
+    os << std::setw(9) << achieved * scale << " " << unit;
+    if (auto u = a.uncertainty.find(name); u != a.uncertainty.end()) os << std::setw(9) << u->second * scale;
+    os << "\n";
   }
+  for (const auto& w : a.warnings) os << "warning: " << w << "\n";
 }
 
 }  // namespace
@@ -50,8 +54,13 @@ void register_avatar(CLI::App& app) {
     if (!ends_with(*output, ".glb") && !ends_with(*output, ".obj"))
       throw Error(ErrorKind::InvalidArgument, "--output must end in .glb or .obj, got '" + *output + "'", "--output");
     BuiltAvatar built = build_avatar(*opts);
-    if (ends_with(*output, ".glb")) save_glb(*output, *built.model, built.avatar.rest_vertices);
-    else
+    if (ends_with(*output, ".glb")) {
+      // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
+      GlbOptions glb;
+      const Eigen::VectorXd& vsd = built.avatar.vertex_sd;
+      glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
+      save_glb(*output, *built.model, built.avatar.rest_vertices, glb);
+    } else
       write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(),
                                     "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));
     if (!report->empty()) write_file(*report, avatar_report_json(*built.model, built.avatar));
@@ -68,6 +77,7 @@ void register_render(CLI::App& app) {
   auto height = std::make_shared<int>(800);
   auto mesh_file = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>("t");
+  auto heat = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand("render", "Render an avatar (or an OBJ mesh) to a PNG picture, several views side by side");
   add_body_options(*cmd, *opts, true);
   cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
@@ -76,6 +86,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("--pose", *pose, "t (rest pose, arms horizontal) or a (arms lowered 45°, posed by the rig's skinning)")
       ->check(CLI::IsMember({"t", "a"}))
       ->capture_default_str();
+  cmd->add_flag("--uncertainty", *heat,
+                "colour the body by the per-vertex SD of --regressor map (blue: certain, red: the body's largest SD)");
   cmd->add_option("--image-width", *width, "width of each view in pixels (64–4096)")->capture_default_str();
   cmd->add_option("--image-height", *height, "height of each view in pixels (64–4096)")->capture_default_str();
   cmd->callback([=] {
@@ -97,6 +109,14 @@ void register_render(CLI::App& app) {
       write_file(*output, render_views_png(m.vertices, m.faces, vs, ro));
     } else {
       BuiltAvatar built = build_avatar(*opts);
+      if (*heat) {
+        const Eigen::VectorXd& sd = built.avatar.vertex_sd;
+        if (sd.size() == 0)
+          throw Error(ErrorKind::InvalidArgument, "--uncertainty needs --regressor map (only map estimates it)", "--uncertainty");
+        ro.vertex_scalar.assign(sd.data(), sd.data() + sd.size());
+        ro.scalar_min = 0.0f;
+        ro.scalar_max = static_cast<float>(sd.maxCoeff());
+      }
       const Vertices shown = *pose == "a" ? pose_vertices(*built.model, built.avatar.rest_vertices, a_pose(*built.model))
                                           : built.avatar.rest_vertices;
       write_file(*output, render_views_png(shown, built.model->faces(), vs, ro));

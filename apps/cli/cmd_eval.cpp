@@ -44,6 +44,15 @@ void print_table(const std::string& title, const std::map<std::string, MethodEva
       std::cout << "    " << std::left << std::setw(24) << k << std::right << std::setprecision(2) << std::setw(7)
                 << s.mae * (kg ? 1 : 100) << std::setw(9) << s.bias * (kg ? 1 : 100) << (kg ? " kg" : " cm") << "\n";
     }
+    if (!me.calibration.empty()) {
+      std::cout << "  calibration (truth within)    ±1 SD    ±2 SD  mean SD\n";
+      for (const auto& [k, c] : me.calibration) {
+        const bool kg = k == "weight";
+        std::cout << "    " << std::left << std::setw(24) << k << std::right << std::setprecision(1) << std::setw(7)
+                  << c.within_1sd * 100 << " %" << std::setw(7) << c.within_2sd * 100 << " %" << std::setprecision(2)
+                  << std::setw(7) << c.mean_sd * (kg ? 1 : 100) << (kg ? " kg" : " cm") << "\n";
+      }
+    }
   }
 }
 
@@ -53,6 +62,7 @@ void register_eval(CLI::App& app) {
   auto o = std::make_shared<SubjectsOptions>();
   auto regressors = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"R2", "R4", "R5", "R6"});
   auto noise = std::make_shared<std::string>("none");
+  auto map_noise = std::make_shared<std::string>();
   auto seed = std::make_shared<std::uint64_t>(1);
   auto json = std::make_shared<std::string>();
   auto synthetic = std::make_shared<int>(0);
@@ -61,9 +71,14 @@ void register_eval(CLI::App& app) {
       "Evaluate regressors on real people: avatars from each subject's Virtual Caliper inputs, compared with their "
       "ANSUR II measurements (paper Table 1 and held-out accuracy)");
   cmd->add_option("--subjects", o->subjects, "CSV in the ANSUR II public format (both sexes may be mixed)")->required();
-  cmd->add_option("--regressor", *regressors, "regressors to evaluate, comma separated")->delimiter(',')->capture_default_str();
+  cmd->add_option("--regressor", *regressors, "regressors to evaluate, comma separated (R2, R4, R5, R6, auto, map)")
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_option("--noise", *noise, "simulated measurement noise from the paper's Table 2: none, self or other")
       ->capture_default_str();
+  cmd->add_option("--map-noise", *map_noise,
+                  "noise setting the map estimator assumes: exact, self or other (default: none → exact, else as --noise)")
+      ->check(CLI::IsMember({"exact", "self", "other"}));
   cmd->add_option("--seed", *seed, "seed of the simulated noise")->capture_default_str();
   cmd->add_option("--model", o->model, "body model family or path")->capture_default_str();
   cmd->add_option("--json", *json, "write the results as JSON to this file");
@@ -74,6 +89,7 @@ void register_eval(CLI::App& app) {
     EvaluationOptions opt;
     opt.regressors = *regressors;
     opt.noise = parse_noise(*noise);
+    opt.map_noise = *map_noise;
     opt.seed = *seed;
     opt.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     opt.progress = progress_bar("evaluating subjects");

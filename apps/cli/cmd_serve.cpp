@@ -8,8 +8,10 @@
 #include <pthread.h>
 #include <thread>
 
+#include "caliper/capture/store.h"
 #include "common.h"
 #include "server.h"
+#include "tls_certificate.h"
 
 namespace caliper::cli {
 
@@ -18,6 +20,7 @@ void register_serve(CLI::App& app) {
   opts->web_root = CALIPER_WEB_ROOT;
   auto quiet = std::make_shared<bool>(false);
   auto no_warm_up = std::make_shared<bool>(false);
+  auto data_dir = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand("serve", "Run the desktop tool: a local web app to build, inspect and export avatars");
   cmd->add_option("--host", opts->host, "address to listen on (127.0.0.1 keeps it on this machine)")->capture_default_str();
   cmd->add_option("--port", opts->port, "TCP port; 0 picks a free one (printed)")->capture_default_str();
@@ -27,9 +30,42 @@ void register_serve(CLI::App& app) {
   cmd->add_option("--threads", opts->threads, "worker threads serving requests (1–256)")->capture_default_str();
   cmd->add_flag("--no-warm-up", *no_warm_up, "do not train the default model's regressors before listening");
   cmd->add_flag("-q,--quiet", *quiet, "do not log requests");
+  // Capture (docs/capture.md): where sessions live, HTTPS for headsets.
+  cmd->add_option("--data", *data_dir, "data folder for capture sessions (sessions.db) and the generated certificate "
+                                       "(default: $XDG_DATA_HOME/caliper or ~/.local/share/caliper)");
+  cmd->add_option("--capture-profiles", opts->api.capture_profiles_file,
+                  "JSON file overriding controller tip offsets (docs/capture.md)");
+  cmd->add_flag("--https", opts->https, "serve HTTPS (a headset needs it for WebXR); without --cert/--key a self-signed "
+                                        "certificate is made once in the data folder");
+  cmd->add_option("--cert", opts->cert_file, "PEM certificate for --https");
+  cmd->add_option("--key", opts->key_file, "PEM private key for --https");
   cmd->callback([=] {
     if (opts->threads < 1 || opts->threads > 256)
       throw Error(ErrorKind::OutOfRange, "--threads must be in [1, 256]", "--threads");
+    // The sessions database is checked now, so a corrupt or foreign file stops the start-up
+    // with a clear message instead of failing every capture request.
+    const std::string db = data_dir->empty() ? capture::SessionStore::default_path() : capture::SessionStore::path_in(*data_dir);
+    try {
+      capture::SessionStore check(db);
+    } catch (const Error& e) {
+      if (!data_dir->empty()) throw;  // asked for explicitly: do not start without it
+      std::cerr << "caliper serve: warning: capture sessions unavailable (" << e.what() << "); the desktop tool works\n";
+    }
+    opts->api.sessions_database = db;
+    if ((!opts->cert_file.empty() || !opts->key_file.empty()) && !opts->https)
+      throw Error(ErrorKind::InvalidArgument, "--cert and --key need --https", "--https");
+    if (opts->https && (opts->cert_file.empty() != opts->key_file.empty()))
+      throw Error(ErrorKind::InvalidArgument, "give both --cert and --key, or neither (a self-signed certificate is made)", "--cert");
+    if (opts->https && opts->cert_file.empty()) {
+      std::vector<std::string> hosts = {"localhost", "127.0.0.1"};
+      for (const auto& ip : server::lan_addresses()) hosts.push_back(ip);
+      if (opts->host != "0.0.0.0" && opts->host != "127.0.0.1") hosts.push_back(opts->host);
+      const auto files = server::ensure_self_signed_certificate(std::filesystem::path(db).parent_path().string(), hosts);
+      opts->cert_file = files.cert_file;
+      opts->key_file = files.key_file;
+      std::cerr << "caliper serve: " << (files.created ? "made a self-signed certificate " : "using the certificate ")
+                << files.cert_file << " (the headset's browser will ask you to accept it once)\n";
+    }
     std::error_code ec;
     if (!std::filesystem::is_regular_file(std::filesystem::path(opts->web_root) / "index.html", ec))
       std::cerr << "caliper serve: warning: no index.html in " << opts->web_root
@@ -64,8 +100,16 @@ void register_serve(CLI::App& app) {
       srv.stop();
     });
     const std::string shown_host = opts->host == "0.0.0.0" ? "127.0.0.1" : opts->host;
-    std::cout << "Caliper desktop tool: open http://" << shown_host << ":" << port << "/ in a browser (Ctrl+C stops)"
+    const std::string scheme = opts->https ? "https" : "http";
+    std::cout << "Caliper desktop tool: open " << scheme << "://" << shown_host << ":" << port << "/ in a browser (Ctrl+C stops)"
               << std::endl;
+    if (opts->host == "0.0.0.0") {
+      for (const auto& ip : server::lan_addresses())
+        std::cout << "Capture: open " << scheme << "://" << ip << ":" << port << "/capture.html in the headset's browser" << std::endl;
+    } else {
+      std::cout << "Capture: " << scheme << "://" << shown_host << ":" << port << "/capture.html"
+                << (shown_host == "127.0.0.1" ? " (this machine only; a headset needs --host 0.0.0.0 --https)" : "") << std::endl;
+    }
     srv.run();
     // run() also returns if listening fails; wake the waiter so it can be joined.
     if (!signalled) pthread_kill(waiter.native_handle(), SIGTERM);

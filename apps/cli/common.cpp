@@ -1,5 +1,8 @@
 #include "common.h"
 
+#include "caliper/capture/measurement_set.h"
+
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <unistd.h>
@@ -30,12 +33,23 @@ void add_measurement(CLI::App& app, BodyOptions& opts, const std::string& name, 
 }  // namespace
 
 void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta) {
-  app.add_option("--sex", opts.sex, "female, male or neutral")->capture_default_str();
+  app.add_option("--sex", opts.sex, "female, male or neutral")->capture_default_str()->each([&opts](const std::string&) {
+    opts.sex_given = true;
+  });
+  app.add_option("--measurements", opts.measurements_file,
+                 "a measurement set file (JSON or CSV, as `caliper sessions export` and the desktop tool write); "
+                 "values given as options override it");
   app.add_option("--model", opts.model, "body model: a name in the models folder (see `caliper model list`) or a .npz path")
       ->capture_default_str();
   app.add_option("--regressor", opts.regressor,
-                 "R2, R4, R5, R6, auto (largest preset the given values allow), or a comma list of measurements")
+                 "R2, R4, R5, R6, auto (largest preset the given values allow), map (noise-aware, any measurements, "
+                 "with uncertainty), or a comma list of measurements")
       ->capture_default_str();
+  app.add_option("--noise", opts.noise, "for --regressor map: who measured, exact, self or other (paper Table 2)")
+      ->check(CLI::IsMember({"exact", "self", "other"}))
+      ->capture_default_str();
+  app.add_option("--noise-sd", opts.noise_sd, "for --regressor map: a measurement's noise SD as NAME=SD (cm or kg)")
+      ->type_name("NAME=SD");
   add_measurement(app, opts, "stature", "--stature,--height");
   add_measurement(app, opts, "weight", "--weight");
   add_measurement(app, opts, "span", "--span,--arm-span");
@@ -49,23 +63,45 @@ void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta) {
     app.add_option("--beta", opts.beta, "shape values instead of measurements (comma separated)")->delimiter(',');
 }
 
+namespace {
+// "NAME=VALUE" → (name, number); throws Error naming the option or the field.
+std::pair<std::string, double> name_value(const std::string& kv, const std::string& option) {
+  const auto eq = kv.find('=');
+  if (eq == std::string::npos) throw Error(ErrorKind::InvalidArgument, option + " expects NAME=VALUE, got '" + kv + "'", option);
+  const std::string name = kv.substr(0, eq), text = kv.substr(eq + 1);
+  double v = 0;
+  try {
+    size_t used = 0;
+    v = std::stod(text, &used);
+    if (used != text.size()) throw std::invalid_argument("trailing");
+  } catch (const std::exception&) {
+    throw Error(ErrorKind::InvalidArgument, name + " must be a number, got '" + text + "'", name);
+  }
+  return {name, v};
+}
+}  // namespace
+
 BuiltAvatar build_avatar(const BodyOptions& opts) {
-  const Sex sex = parse_sex(opts.sex);
+  Sex sex = parse_sex(opts.sex);
   BuiltAvatar out;
   std::map<std::string, double> edge = opts.values;
+  if (!opts.measurements_file.empty()) {
+    const MeasurementSetFile file = read_measurement_set(opts.measurements_file);
+    for (const auto& [name, value] : file.edge) edge.emplace(name, value);  // options win
+    if (file.sex && !opts.sex_given) sex = *file.sex;
+  }
   for (const auto& kv : opts.extra) {
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos) throw Error(ErrorKind::InvalidArgument, "--set expects NAME=VALUE, got '" + kv + "'", "--set");
-    const std::string name = kv.substr(0, eq), text = kv.substr(eq + 1);
-    double v = 0;
-    try {
-      size_t used = 0;
-      v = std::stod(text, &used);
-      if (used != text.size()) throw std::invalid_argument("trailing");
-    } catch (const std::exception&) {
-      throw Error(ErrorKind::InvalidArgument, name + " must be a number, got '" + text + "'", name);
-    }
+    const auto [name, v] = name_value(kv, "--set");
     edge[name] = v;
+  }
+  std::map<std::string, double> noise_sd;  // SI
+  for (const auto& kv : opts.noise_sd) {
+    const auto [name, v] = name_value(kv, "--noise-sd");
+    const MeasurementInfo* info = find_measurement_info(name);
+    if (!info) throw Error(ErrorKind::InvalidArgument, "unknown measurement '" + name + "' in --noise-sd", "--noise-sd");
+    if (!std::isfinite(v) || v <= 0 || v > 50)
+      throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be in (0, 50] " + edge_unit(*info), info->name);
+    noise_sd[info->name] = info->unit == Unit::Kilogram ? v : v / 100.0;
   }
   // Values are checked before the model is loaded, so a bad value is reported as such.
   std::map<std::string, double> si = measurements_from_edge(edge);
@@ -86,6 +122,8 @@ BuiltAvatar build_avatar(const BodyOptions& opts) {
   AvatarRequest request;
   request.measurements = si;
   request.regressor = opts.regressor;
+  request.noise = opts.noise;
+  request.noise_sd = noise_sd;
   if (!opts.map_file.empty()) {
     // A user's own map replaces the model's default one.
     RealToVirtual::load(opts.map_file).apply(request.measurements);

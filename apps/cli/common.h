@@ -30,7 +30,11 @@ struct BodyOptions {
   std::map<std::string, double> values;     // canonical name → edge value (cm / kg)
   std::vector<std::string> extra;           // --set name=value
   std::string map_file;                     // real-to-virtual map
+  std::string measurements_file;            // a measurement set (JSON/CSV); options given override it
+  bool sex_given = false;                   // --sex was on the command line (else the file's sex is used)
   std::vector<double> beta;                 // explicit shape instead of measurements
+  std::string noise = "self";               // regressor "map": exact, self or other
+  std::vector<std::string> noise_sd;        // regressor "map": NAME=SD (cm or kg) overrides
 };
 void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta);
 
@@ -55,5 +59,6 @@ void register_eval(CLI::App& app);
 void register_batch(CLI::App& app);
 void register_render(CLI::App& app);
 void register_serve(CLI::App& app);  // cmd_serve.cpp: the desktop tool
+void register_sessions(CLI::App& app);  // cmd_sessions.cpp: capture sessions
 
 }  // namespace caliper::cli

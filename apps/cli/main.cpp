@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   caliper::cli::register_eval(app);
   caliper::cli::register_batch(app);
   caliper::cli::register_serve(app);
+  caliper::cli::register_sessions(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

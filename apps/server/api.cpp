@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "caliper/caliper.h"
+#include "capture_api.h"
 
 namespace caliper::server {
 
@@ -134,6 +135,8 @@ struct BodyRequest {
   std::string regressor = "auto";
   std::map<std::string, double> edge;  // canonical name → cm / kg
   bool include_mesh = true;
+  std::string noise = "self";                 // regressor "map": exact, self or other
+  std::map<std::string, double> noise_sd_si;  // regressor "map": per-measurement SD overrides, SI
 };
 
 // Parses `text` as a JSON object; `what` names it in the 400 messages ("the request body").
@@ -181,10 +184,10 @@ std::map<std::string, double> parse_measurements(const ordered_json& m) {
 
 BodyRequest parse_body_request(const std::string& body, const std::string& default_model, bool allow_mesh_flag) {
   const ordered_json j = parse_json_body(body);
-  static const std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "mesh"};
+  static const std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "mesh", "noise", "noise_sd"};
   for (const auto& [key, value] : j.items())
     if (std::find(known.begin(), known.end(), key) == known.end() || (key == "mesh" && !allow_mesh_flag))
-      bad("unknown field '" + key + "' (expected sex, model, regressor, measurements)", key);
+      bad("unknown field '" + key + "' (expected sex, model, regressor, measurements, noise, noise_sd)", key);
   BodyRequest r;
   r.sex = parse_sex(string_field(j, "sex", "female"));
   r.model = string_field(j, "model", default_model);
@@ -195,6 +198,19 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   if (j.contains("mesh")) {
     if (!j["mesh"].is_boolean()) bad("mesh must be true or false", "mesh");
     r.include_mesh = j["mesh"].get<bool>();
+  }
+  // The map estimator's noise: who measured, and optional SDs per measurement (cm or kg).
+  r.noise = lower(string_field(j, "noise", "self"));
+  if (r.noise != "exact" && r.noise != "self" && r.noise != "other") bad("noise must be exact, self or other", "noise");
+  if (j.contains("noise_sd") && !j["noise_sd"].is_null()) {
+    if (!j["noise_sd"].is_object()) bad("noise_sd must be an object of name: SD (cm or kg)", "noise_sd");
+    for (const auto& [name, value] : j["noise_sd"].items()) {
+      const MeasurementInfo* info = find_measurement_info(name);
+      if (!info) bad("unknown measurement '" + name + "' in noise_sd", name);
+      if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() <= 0 || value.get<double>() > 50)
+        throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be a number in (0, 50] " + edge_unit(*info), info->name);
+      r.noise_sd_si[info->name] = info->unit == Unit::Kilogram ? value.get<double>() : value.get<double>() / 100.0;
+    }
   }
   return r;
 }
@@ -373,6 +389,7 @@ ApiResponse error_response(int status, const std::string& message, const std::st
 
 struct Api::Impl {
   ApiOptions options;
+  std::unique_ptr<CaptureApi> capture;  // /api/sessions… and /api/capture/…
 
   struct Entry {
     std::once_flag once;
@@ -477,6 +494,8 @@ struct Api::Impl {
     AvatarRequest request;
     request.measurements = measurements_from_edge(r.edge);
     request.regressor = r.regressor;
+    request.noise = r.noise;
+    request.noise_sd = r.noise_sd_si;
     b.avatar = b.entry->builder->build(request);
     b.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return b;
@@ -492,6 +511,8 @@ struct Api::Impl {
     for (const auto& p : preset_names()) regressors.push_back({{"name", p}, {"inputs", preset_inputs(p)}});
     regressors.push_back({{"name", "auto"}, {"inputs", nullptr},
                           {"description", "the largest preset whose inputs are all given"}});
+    regressors.push_back({{"name", "map"}, {"inputs", nullptr},
+                          {"description", "noise-aware estimate from every given measurement, with uncertainty"}});
     return json_response({{"default_model", options.default_model}, {"models", list}, {"regressors", regressors}});
   }
 
@@ -549,6 +570,13 @@ struct Api::Impl {
                    {"positions", base64(positions.data(), positions.size() * sizeof(float))},
                    {"encoding", "float32 little-endian, base64, x y z per vertex, metres, +Y up, facing +Z"},
                    {"topology", "/api/topology?model=" + r.model + "&sex=" + to_string(r.sex)}};
+      if (b.avatar.vertex_sd.size() == v.rows()) {
+        // The map estimator's per-vertex SD, for the page's heat map.
+        std::vector<float> sd(static_cast<size_t>(v.rows()));
+        for (Eigen::Index i = 0; i < v.rows(); ++i) sd[size_t(i)] = static_cast<float>(b.avatar.vertex_sd(i));
+        j["mesh"]["vertex_sd"] = base64(sd.data(), sd.size() * sizeof(float));
+        j["mesh"]["vertex_sd_encoding"] = "float32 little-endian, base64, one per vertex, metres (posterior SD)";
+      }
     }
     j["timing_ms"] = {{"build", round_to(b.build_ms, 0.01)},
                       {"total", round_to(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), 0.01)}};
@@ -563,7 +591,9 @@ struct Api::Impl {
     const std::string stem = "caliper-" + m.name() + "-" + b.avatar.regressor;
     if (kind == "glb") {
       out.content_type = "model/gltf-binary";
-      out.body = write_glb(m, b.avatar.rest_vertices);
+      GlbOptions glb;  // the map estimator's per-vertex SD as _UNCERTAINTY, when there is one
+      glb.extra_vertex_scalar.assign(b.avatar.vertex_sd.data(), b.avatar.vertex_sd.data() + b.avatar.vertex_sd.size());
+      out.body = write_glb(m, b.avatar.rest_vertices, glb);
       out.download_name = stem + ".glb";
     } else if (kind == "obj") {
       out.content_type = "text/plain; charset=utf-8";
@@ -616,6 +646,7 @@ struct Api::Impl {
       const char* path;
     };
     auto is = [&](const char* method, const char* path) { return req.method == method && req.path == path; };
+    if (is_capture_path(req.path)) return capture->handle(req);
     if (is("GET", "/api/health")) return json_response({{"status", "ok"}});
     if (is("GET", "/api/models")) return models();
     if (is("GET", "/api/measurements")) return measurements();
@@ -637,7 +668,10 @@ struct Api::Impl {
   }
 };
 
-Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) { impl_->options = std::move(options); }
+Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) {
+  impl_->options = std::move(options);
+  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file});
+}
 Api::~Api() = default;
 
 ApiResponse Api::handle(const ApiRequest& request) const {

@@ -16,6 +16,8 @@ struct ApiRequest {
   std::map<std::string, std::string> query;   // decoded query parameters
   std::string body;
   std::string content_type;                   // as sent, e.g. "application/json"
+  std::map<std::string, std::string> headers; // names lower-cased (e.g. "x-caliper-pairing")
+  std::string remote_address;                 // the client's IP address, when known
 };
 
 struct ApiResponse {
@@ -33,6 +35,10 @@ ApiResponse error_response(int status, const std::string& message, const std::st
 struct ApiOptions {
   std::string models_dir;                   // empty: the library's models folder
   std::string default_model = "mannequin";
+  // Capture sessions (/api/sessions…, capture_api.h): the SQLite file (empty: the user's
+  // default data folder, opened on first use) and an optional controller-profiles JSON.
+  std::string sessions_database;
+  std::string capture_profiles_file;
 };
 
 // Routes /api/* requests. Thread-safe: one AvatarBuilder per (model, sex) is created on first use

@@ -17,11 +17,21 @@ namespace caliper::server {
 struct Server::Impl {
   ServerOptions options;
   Api api;
-  httplib::Server http;
+  std::unique_ptr<httplib::Server> owned_http;  // httplib::SSLServer with --https
+  httplib::Server& http;
   int port = -1;
   int listen_socket = -1;  // captured from httplib to raise its listen backlog
 
-  explicit Impl(ServerOptions o) : options(std::move(o)), api(options.api) {}
+  explicit Impl(ServerOptions o) : options(std::move(o)), api(options.api), owned_http(make_http(options)), http(*owned_http) {}
+
+  static std::unique_ptr<httplib::Server> make_http(const ServerOptions& o) {
+    if (!o.https) return std::make_unique<httplib::Server>();
+    auto ssl = std::make_unique<httplib::SSLServer>(o.cert_file.c_str(), o.key_file.c_str());
+    if (!ssl->is_valid())
+      throw Error(ErrorKind::Io, "cannot serve HTTPS with certificate '" + o.cert_file + "' and key '" + o.key_file +
+                                     "' (missing, unreadable, or not a matching PEM pair)", "--cert");
+    return ssl;
+  }
 
   static void send(httplib::Response& res, const ApiResponse& r) {
     res.status = r.status;
@@ -38,6 +48,12 @@ struct Server::Impl {
     for (const auto& [k, v] : req.params) a.query.emplace(k, v);
     a.body = req.body;
     a.content_type = req.get_header_value("Content-Type");
+    for (const auto& [name, value] : req.headers) {
+      std::string key = name;
+      for (auto& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      a.headers.emplace(key, value);
+    }
+    a.remote_address = req.remote_addr;
     send(res, api.handle(a));
   }
 

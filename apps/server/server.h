@@ -18,6 +18,9 @@ struct ServerOptions {
   std::size_t max_body_bytes = 1 << 20;    // larger request bodies get 413
   ApiOptions api;
   std::function<void(const std::string&)> log;  // one line per request; empty: quiet
+  // HTTPS (headsets need a secure context for WebXR): PEM certificate and private key files.
+  bool https = false;
+  std::string cert_file, key_file;
 };
 
 class Server {

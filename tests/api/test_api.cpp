@@ -4,6 +4,7 @@
 // sit at the reported stature, the topology must be the model's faces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -98,7 +99,7 @@ TEST_F(ApiTest, ModelsListsFamiliesWithTheirSexesAndThePresets) {
   EXPECT_EQ(j["models"][0]["sexes"], json({"female", "male"}));
   std::vector<std::string> names;
   for (const auto& reg : j["regressors"]) names.push_back(reg["name"]);
-  EXPECT_EQ(names, (std::vector<std::string>{"R2", "R4", "R5", "R6", "auto"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"R2", "R4", "R5", "R6", "auto", "map"}));
   EXPECT_EQ(j["regressors"][0]["inputs"], json({"stature", "weight"}));
 }
 
@@ -173,6 +174,55 @@ TEST_F(ApiTest, AutoPicksTheLargestPresetAndMeshCanBeLeftOut) {
   EXPECT_EQ(j["report"]["regressor"], "R4");
   EXPECT_FALSE(j.contains("mesh"));
   EXPECT_NEAR(j["report"]["measurements"]["crotch_height"]["requested_cm"].get<double>(), 80.0, 1e-9);
+}
+
+// The map estimator through the API (issue 7): on the toy body stature is linear in β, so with
+// "exact" noise it is reproduced; the report carries per-measurement SDs and the mesh the
+// per-vertex SDs (N float32, finite, ≥ 0, and > 0 at the top, which moves with β).
+TEST_F(ApiTest, MapReturnsTheUncertainty) {
+  json body = avatar_body(175.0, 70.0, "map");
+  body["noise"] = "exact";
+  json j = post("/api/avatar", body);
+  const json& report = j["report"];
+  EXPECT_EQ(report["regressor"], "map");
+  EXPECT_EQ(report["inputs"], json({"stature", "weight"}));
+  EXPECT_NEAR(report["measurements"]["stature"]["achieved_cm"].get<double>(), 175.0, 0.05);
+  EXPECT_EQ(report["uncertainty"]["noise"], "exact");
+  EXPECT_GE(report["measurements"]["stature"]["uncertainty_cm"].get<double>(), 0.0);
+  EXPECT_LT(report["measurements"]["stature"]["uncertainty_cm"].get<double>(), 0.05);
+  EXPECT_TRUE(report["warnings"].is_array());
+  const int n = j["mesh"]["vertex_count"];
+  const auto bytes = unbase64(j["mesh"]["vertex_sd"]);
+  ASSERT_EQ(bytes.size(), size_t(n) * sizeof(float));
+  std::vector<float> sd(static_cast<size_t>(n));
+  std::memcpy(sd.data(), bytes.data(), bytes.size());
+  for (float v : sd) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f);
+  EXPECT_GT(*std::max_element(sd.begin(), sd.end()), 0.0f);
+  // "self" noise: stature's SD is then larger than with exact values, and a noise_sd override
+  // for stature (cm) makes it larger still.
+  body["noise"] = "self";
+  const double self_sd = post("/api/avatar", body)["report"]["measurements"]["stature"]["uncertainty_cm"];
+  EXPECT_GT(self_sd, report["measurements"]["stature"]["uncertainty_cm"].get<double>());
+  body["noise_sd"] = {{"height", 5.0}};
+  const double loose_sd = post("/api/avatar", body)["report"]["measurements"]["stature"]["uncertainty_cm"];
+  EXPECT_GT(loose_sd, self_sd);
+  // Regressors other than map carry no uncertainty.
+  json r2 = post("/api/avatar", avatar_body(175.0, 70.0, "R2"));
+  EXPECT_FALSE(r2["report"].contains("uncertainty"));
+  EXPECT_FALSE(r2["mesh"].contains("vertex_sd"));
+}
+
+TEST_F(ApiTest, MapRefusesBadNoiseSettings) {
+  json body = avatar_body(170.0, 65.0, "map");
+  body["noise"] = "sloppy";
+  expect_error(call("POST", "/api/avatar", body.dump()), 400, "noise");
+  body["noise"] = "self";
+  body["noise_sd"] = {{"stature", -1}};
+  expect_error(call("POST", "/api/avatar", body.dump()), 400, "stature");
+  body["noise_sd"] = {{"chest_circumference", 2}};  // a SD for a value that was not given
+  expect_error(call("POST", "/api/avatar", body.dump()), 400, "chest_circumference");
+  body["noise_sd"] = json::array({1});
+  expect_error(call("POST", "/api/avatar", body.dump()), 400, "noise_sd");
 }
 
 TEST_F(ApiTest, TopologyIsTheModelsFaces) {

@@ -99,5 +99,102 @@ expect 4 "eval on a missing file" "$CALIPER" eval --subjects /nonexistent.csv
 expect 0 "batch" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch"
 expect 0 "batch wrote an avatar and a report per row" bash -c "ls '$TMP/batch' | grep -c . | grep -qx 6"
 
+# ---------------------------------------------------------------------------------------------
+# Capture sessions (issue 6; docs/capture.md): `serve --data`, a session fed over HTTP, the
+# server killed with SIGKILL mid-session and restarted (nothing lost), `caliper sessions
+# list|export|delete`, `avatar --measurements`, and a foreign database refused and left untouched.
+CAP="$TMP/capture"
+cat >"$TMP/cap.mjs" <<'JS'
+// node cap.mjs PORT create | floor ID CODE N | get ID  — prints JSON results.
+const [port, cmd, id, code, n] = process.argv.slice(2);
+const base = `http://127.0.0.1:${port}/api`;
+const post = (path, body, pairing) => fetch(base + path, {method: 'POST', body: JSON.stringify(body),
+  headers: {'Content-Type': 'application/json', ...(pairing ? {'X-Caliper-Pairing': pairing} : {})}});
+if (cmd === 'create') {
+  const r = await post('/sessions', {mode: 'self', steps: 'core', sex: 'female'});
+  const j = await r.json();
+  console.log(`${r.status} ${j.session.id} ${j.pairing_code}`);
+} else if (cmd === 'floor') {
+  // N floor taps with the right controller, identity orientation: grip = tip - offset.
+  const prof = await (await fetch(base + '/capture/profiles')).json();
+  const off = prof.profiles[prof.default].tip_offset_m;
+  let t = 100, accepted = 0, status = 0;
+  for (let k = 0; k < Number(n); k++) {
+    const samples = [];
+    for (let f = 0; f < 110; f++, t += 1 / 72) {
+      const trig = f >= 10 && f < 100 ? 1 : 0;
+      samples.push({t, hand: 'right', position: [0.2 * k - off[0], 0.01 - off[1], 0.3 - off[2]], orientation: [0, 0, 0, 1], trigger: trig});
+      samples.push({t, hand: 'left', position: [0.3, 1.0, 0.2], orientation: [0, 0, 0, 1], trigger: 0});
+    }
+    const r = await post(`/sessions/${id}/samples`, {profile: prof.default, samples}, code);
+    status = r.status;
+    accepted += (await r.json()).events.filter(e => e.type === 'point_accepted').length;
+  }
+  console.log(`${status} ${accepted}`);
+} else if (cmd === 'get') {
+  const j = await (await fetch(`${base}/sessions/${id}`)).json();
+  console.log(`${j.session.state} ${j.session.step.points_done} ${j.session.floor_m}`);
+} else if (cmd === 'entries') {
+  const r = await post(`/sessions/${id}/entries`, {weight_kg: 61.5}, code);
+  console.log(`${r.status}`);
+} else if (cmd === 'nocode') {
+  const r = await post(`/sessions/${id}/undo`, {}, '');
+  console.log(`${r.status}`);
+}
+JS
+start_serve() {  # starts `caliper serve` on a free port; sets SERVE_PID and PORT
+  "$CALIPER" serve --port 0 --no-warm-up -q --data "$CAP" >"$TMP/serve.log" 2>&1 &
+  SERVE_PID=$!
+  PORT=""
+  for _ in $(seq 1 100); do
+    PORT=$(sed -n 's|.*http://127.0.0.1:\([0-9]*\)/ in a browser.*|\1|p' "$TMP/serve.log" | head -1)
+    [ -n "$PORT" ] && break
+    sleep 0.1
+  done
+}
+start_serve
+expect 0 "serve prints the capture URL" grep -q "capture.html" "$TMP/serve.log"
+expect 0 "create a capture session" node "$TMP/cap.mjs" "$PORT" create
+says "201 s-" "a session id comes back"
+SID=$(awk '{print $2}' "$TMP/out"); CODE=$(awk '{print $3}' "$TMP/out")
+expect 0 "a write without the pairing code" node "$TMP/cap.mjs" "$PORT" nocode "$SID"
+says "403" "no pairing code is refused"
+expect 0 "three floor taps" node "$TMP/cap.mjs" "$PORT" floor "$SID" "$CODE" 3
+says "200 3" "three points accepted"
+kill -9 "$SERVE_PID"; wait "$SERVE_PID" 2>/dev/null
+start_serve
+expect 0 "the restarted server has the three taps" node "$TMP/cap.mjs" "$PORT" get "$SID"
+says "floor 3 null" "state floor, 3 of 5 taps, no floor yet"
+expect 0 "two more floor taps" node "$TMP/cap.mjs" "$PORT" floor "$SID" "$CODE" 2
+says "200 2" "two more points"
+expect 0 "the floor is calibrated" node "$TMP/cap.mjs" "$PORT" get "$SID"
+says "measuring 0 0.01" "floor at 1 cm, measuring"
+expect 0 "enter the weight" node "$TMP/cap.mjs" "$PORT" entries "$SID" "$CODE"
+kill "$SERVE_PID"; wait "$SERVE_PID" 2>/dev/null
+expect 0 "sessions help" "$CALIPER" sessions --help
+expect 0 "sessions list" "$CALIPER" sessions --data "$CAP" list
+says "$SID" "the session is listed"
+says "measuring" "with its state"
+expect 0 "sessions export csv" "$CALIPER" sessions --data "$CAP" export "$SID" -o "$TMP/me.csv"
+expect 0 "the export has the weight" grep -qx "weight,61.5,kg" "$TMP/me.csv"
+expect 0 "sessions export json to stdout" "$CALIPER" sessions --data "$CAP" export "$SID"
+says '"format": "caliper-measurements"' "the JSON measurement-set format"
+printf 'measurement,value,unit\nsex,male,\nstature,1800,mm\nweight,82,kg\n' >"$TMP/set.csv"
+expect 0 "avatar from a measurement set" "$CALIPER" avatar --measurements "$TMP/set.csv" -o "$TMP/set.obj"
+says "mannequin-male" "the file's sex is used"
+says "180.00 cm" "the file's stature (mm) is used"
+expect 4 "avatar from a missing measurement set" "$CALIPER" avatar --measurements "$TMP/none.csv" -o "$TMP/x.obj"
+expect 3 "export an unknown session" "$CALIPER" sessions --data "$CAP" export s-000000000000
+says "no capture session" "the message says so"
+expect 0 "sessions delete" "$CALIPER" sessions --data "$CAP" delete "$SID"
+expect 0 "deleted" bash -c "! '$CALIPER' sessions --data '$CAP' list | grep -q '$SID'"
+mkdir -p "$TMP/foreign"; printf 'not a database, somebody else'"'"'s file\n' >"$TMP/foreign/sessions.db"
+cp "$TMP/foreign/sessions.db" "$TMP/foreign.copy"
+expect 4 "a foreign sessions.db is refused" "$CALIPER" sessions --data "$TMP/foreign" list
+says "not a Caliper sessions database" "and named"
+expect 4 "serve refuses it too" "$CALIPER" serve --port 0 --no-warm-up --data "$TMP/foreign"
+expect 0 "and leaves it untouched" cmp "$TMP/foreign/sessions.db" "$TMP/foreign.copy"
+# --------------------------------------------------------------------------------------------- (capture)
+
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

@@ -66,7 +66,9 @@ function check(ok, what, detail = '') {
 
 function startServer() {
   return new Promise((resolvePromise, reject) => {
-    const child = spawn(caliper, ['serve', '--port', '0', '--web-root', join(root, 'web', 'dist'), '--quiet'],
+    // Capture sessions go to a scratch folder, not the user's ~/.local/share/caliper.
+    const dataDir = mkdtempSync(join(tmpdir(), 'caliper-desktop-e2e-'));
+    const child = spawn(caliper, ['serve', '--port', '0', '--web-root', join(root, 'web', 'dist'), '--quiet', '--data', dataDir],
       { env: { ...process.env, CALIPER_MODELS_DIR: modelsDir }, stdio: ['ignore', 'pipe', 'pipe'] });
     let out = '', err = '';
     const timer = setTimeout(() => reject(new Error(`server did not start: ${out}${err}`)), 120000);
@@ -232,6 +234,39 @@ try {
   check(/^measurement,value,unit\n/.test(setText) && /\nstature,178\.1,cm\n/.test(setText) && /\nsex,male,\n/.test(setText),
     'the measurement set exports as CSV', setText);
   if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-imported.png') });
+
+  // The map estimator (issue 7): error bars per measurement, a heat map of the per-vertex SD,
+  // a warning naming an inconsistent value, and an export that still validates.
+  n = await updates();
+  await page.selectOption('#regressor', 'map');
+  await settle(n + 1);
+  check(/map/.test(await page.locator('#regressor-used').innerText()), 'map can be chosen');
+  check(await page.locator('#noise-row').isVisible(), 'map shows who measured');
+  check(await page.locator('#measurements th.sd-col').isVisible(), 'map adds the ± SD column');
+  const chestSd = await cell('chest_circumference', 4);
+  check(/^±\d+\.\d\d$/.test(chestSd.trim()) && parseFloat(chestSd.slice(1)) > 0, 'each measurement has an error bar (± SD)', chestSd);
+  check(await page.locator('#measurements tr[data-name="chest_circumference"] .errbar .whisker').count() === 1, 'the error bar is drawn');
+  check(await page.locator('#heatmap-bar').isVisible(), 'the heat-map toggle appears with map');
+  await snapshot();
+  await page.check('#heatmap');
+  await page.waitForTimeout(300);
+  const heat = await snapshot();
+  check(heat.changed > heat.total * 0.005, 'the heat map colours the body', `${heat.changed} pixels changed`);
+  if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-map.png') });
+  n = await updates();
+  await page.fill('#in-span', '215');  // ~32 cm longer than this 178 cm body's arms
+  await settle(n + 1);
+  const warnings = await page.locator('#warnings').innerText();
+  check(await page.locator('#warnings').isVisible() && /^span is/m.test(warnings), 'an inconsistent value is named in a warning', warnings);
+  check(await page.locator('#verdict').innerText() !== 'implausible', 'map keeps the body plausible');
+  const [mapDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-glb')]);
+  const mapGlb = join(tmp, 'map-' + mapDownload.suggestedFilename());
+  await mapDownload.saveAs(mapGlb);
+  const mv = spawnSync(process.execPath, [join(root, 'tools', 'validate-gltf.mjs'), mapGlb], { encoding: 'utf8' });
+  let mapSummary = {};
+  try { mapSummary = JSON.parse(mv.stdout.trim().split('\n').pop()); } catch { /* reported below */ }
+  check(mv.status === 0 && mapSummary.numErrors === 0, 'the map .glb (with _UNCERTAINTY) passes the glTF validator', mv.stdout + mv.stderr);
+  check(readFileSync(mapGlb).includes('_UNCERTAINTY'), 'the map .glb carries the _UNCERTAINTY attribute');
 
   check(outside.length === 0, 'nothing is fetched from outside the server (offline)', outside.join(', '));
   check(pageErrors.length === 0, 'no errors in the page', pageErrors.join('\n'));

@@ -64,6 +64,8 @@ const state = {
   sex: 'female',
   model: 'mannequin',
   regressor: 'auto',
+  noise: 'self',            // for "map": who measured (exact | self | other)
+  vertexSd: null,           // Float32Array of per-vertex SD (m) from "map", else null
   values: {},               // input name → cm / kg
   use: {},                  // input name → sent or not
   extra: {},                // other imported measurements (e.g. a taped chest circumference), sent as requested
@@ -239,7 +241,29 @@ const viewer = (() => {
     render();
   }
 
-  return { setView, setBody, render, renders: 0, hasBody: false, canvas: renderer.domElement };
+  // Heat map of a per-vertex value (the map estimator's SD): blue = certain, red = the most
+  // uncertain at `maxValue`; null restores the plain skin colour.
+  function setHeat(values, maxValue) {
+    if (!mesh) return;
+    if (!values) {
+      mesh.geometry.deleteAttribute('color');
+      if (material.vertexColors) { material.vertexColors = false; material.color.set(0xcdbba8); material.needsUpdate = true; }
+    } else {
+      const colors = new Float32Array(values.length * 3);
+      const c = new THREE.Color();
+      for (let i = 0; i < values.length; ++i) {
+        const t = Math.max(0, Math.min(1, values[i] / maxValue));
+        c.setHSL((1 - t) * 0.66, 0.7, 0.52, THREE.SRGBColorSpace);
+        colors[3 * i] = c.r; colors[3 * i + 1] = c.g; colors[3 * i + 2] = c.b;
+      }
+      mesh.geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+      if (!material.vertexColors) { material.vertexColors = true; material.color.set(0xffffff); material.needsUpdate = true; }
+    }
+    viewer.heat = !!values;
+    render();
+  }
+
+  return { setView, setBody, setHeat, render, renders: 0, hasBody: false, heat: false, canvas: renderer.domElement };
 })();
 state.viewer = viewer;
 
@@ -297,7 +321,8 @@ function buildInputs() {
       });
       use.addEventListener('change', () => {
         state.use[m.name] = use.checked;
-        if (state.regressor !== 'auto') { state.regressor = 'auto'; $('regressor').value = 'auto'; }
+        // A preset's inputs are fixed: choosing others means auto (map takes whatever is checked).
+        if (state.regressor !== 'auto' && state.regressor !== 'map') { state.regressor = 'auto'; $('regressor').value = 'auto'; }
         refreshRows();
         changed();
       });
@@ -330,7 +355,9 @@ function presetInputs(name) {
 function requestBody() {
   const measurements = { ...state.extra };
   for (const [name, used] of Object.entries(state.use)) if (used) measurements[name] = state.values[name];
-  return { sex: state.sex, model: state.model, regressor: state.regressor, measurements };
+  const body = { sex: state.sex, model: state.model, regressor: state.regressor, measurements };
+  if (state.regressor === 'map') body.noise = state.noise;
+  return body;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -376,6 +403,8 @@ async function update() {
   const report = res.report;
   const stature = report.measurements.stature?.achieved_cm ?? 170;
   viewer.setBody(positions, topo.faces, stature / 100);
+  state.vertexSd = res.mesh.vertex_sd ? decodeBase64(res.mesh.vertex_sd, Float32Array) : null;
+  applyHeat();
   state.last = res;
   state.lastRoundTripMs = roundTrip;
   state.updates += 1;
@@ -383,6 +412,7 @@ async function update() {
   clearError();
   renderPlausibility(report);
   renderTable(report);
+  renderWarnings(report);
   $('regressor-used').textContent = `${report.regressor} · ${report.inputs.length} inputs`;
   $('regressor-hint').textContent = hintFor(report);
   const status = $('status');
@@ -392,6 +422,10 @@ async function update() {
 
 function hintFor(report) {
   const names = report.inputs.map(friendly).join(', ');
+  if (report.regressor === 'map') {
+    const noise = report.uncertainty?.noise ?? state.noise;
+    return `map weighs every given value by its expected error (${noise}): ${names}. ± SD is the avatar's uncertainty.`;
+  }
   return state.regressor === 'auto'
     ? `auto chose ${report.regressor}: ${names}.`
     : `${report.regressor} uses ${names}.`;
@@ -433,7 +467,7 @@ function renderTable(report) {
   const section = (title) => {
     const tr = document.createElement('tr');
     tr.className = 'section';
-    tr.innerHTML = `<td colspan="4">${title}</td>`;
+    tr.innerHTML = `<td colspan="5">${title}</td>`;
     tbody.appendChild(tr);
   };
   const add = (name, cls) => {
@@ -458,7 +492,8 @@ function renderTable(report) {
     tr.innerHTML = `<td title="${state.info.get(name)?.label ?? name}">${friendly(name)}${note}</td>
       <td>${req === null ? '—' : `${fmt(req)} ${u}`}</td>
       <td>${shownAch === null ? '—' : `${fmt(shownAch)} ${u}`}</td>
-      <td class="delta ${dcls}">${diff === null ? '' : `${diff >= 0 ? '+' : '−'}${Math.abs(diff).toFixed(2)}`}</td>`;
+      <td class="delta ${dcls}">${diff === null ? '' : `${diff >= 0 ? '+' : '−'}${Math.abs(diff).toFixed(2)}`}</td>
+      <td class="sd">${sdCell(value(m, 'uncertainty'))}</td>`;
     tbody.appendChild(tr);
   };
   const inputs = report.inputs;
@@ -474,6 +509,40 @@ function renderTable(report) {
     .map((m) => m.name)
     .filter((n) => ms[n] && !inputs.includes(n) && !otherRequested.includes(n) && (all || state.info.get(n)?.highlight || state.info.get(n)?.input));
   predicted.forEach((n) => add(n, 'predicted'));
+}
+
+// An error bar: ± SD as text over a bar whose half-width grows with the SD (full at 3 cm / kg).
+function sdCell(sd) {
+  if (sd === null) return '';
+  const half = Math.min(50, (sd / 3) * 50);
+  return `<span class="errbar" title="avatar value ± ${sd.toFixed(2)} (posterior SD)"><span class="whisker" style="left:${50 - half}%;width:${2 * half}%"></span><span class="dot"></span></span><span class="sd-value">±${sd.toFixed(2)}</span>`;
+}
+
+function renderWarnings(report) {
+  const list = $('warnings');
+  list.textContent = '';
+  for (const w of report.warnings ?? []) {
+    const li = document.createElement('li');
+    li.textContent = w;
+    list.appendChild(li);
+  }
+  list.hidden = !(report.warnings ?? []).length;
+  $('measurements').classList.toggle('with-sd', Object.values(report.measurements).some((m) => m.uncertainty_cm !== undefined || m.uncertainty_kg !== undefined));
+}
+
+// The per-vertex SD heat map: shown while the toggle is on and the estimator gave one; the
+// legend's top is the largest SD on this body.
+function applyHeat() {
+  const sd = state.vertexSd;
+  $('heatmap-bar').hidden = !sd;
+  if (sd && $('heatmap').checked) {
+    let max = 0;
+    for (const v of sd) max = Math.max(max, v);
+    viewer.setHeat(sd, max || 1);
+    $('heat-legend').querySelector('.hi').textContent = `${(max * 100).toFixed(1)} cm SD`;
+  } else if (viewer.heat) {
+    viewer.setHeat(null);
+  }
 }
 
 function showError(e) {
@@ -493,6 +562,7 @@ function clearError() {
 }
 
 $('show-all').addEventListener('change', () => { if (state.last) renderTable(state.last.report); });
+$('heatmap').addEventListener('change', applyHeat);
 
 // ---------------------------------------------------------------------------------------------
 // Export and measurement sets
@@ -517,7 +587,7 @@ async function download(path, body, fallbackName) {
 $('export-glb').addEventListener('click', () => download('/api/export/glb', requestBody(), 'avatar.glb'));
 $('export-obj').addEventListener('click', () => download('/api/export/obj', requestBody(), 'avatar.obj'));
 $('export-report').addEventListener('click', () => download('/api/export/report', requestBody(), 'avatar-report.json'));
-const setBody = () => { const b = requestBody(); delete b.regressor; return b; };
+const setBody = () => { const b = requestBody(); delete b.regressor; delete b.noise; return b; };
 $('export-set-json').addEventListener('click', () => download('/api/measurement-set/export?format=json', setBody(), 'measurements.json'));
 $('export-set-csv').addEventListener('click', () => download('/api/measurement-set/export?format=csv', setBody(), 'measurements.csv'));
 
@@ -549,8 +619,7 @@ function applySet(set) {
     if (r.info.input.level === 1) continue;
     state.use[name] = name in set.measurements;
   }
-  state.regressor = 'auto';
-  $('regressor').value = 'auto';
+  if (state.regressor !== 'map') { state.regressor = 'auto'; $('regressor').value = 'auto'; }
   refreshRows();
   changed();
 }
@@ -589,10 +658,23 @@ async function start() {
     state.regressor = e.target.value;
     const inputs = presetInputs(state.regressor);
     if (inputs) for (const name of rows.keys()) state.use[name] = inputs.includes(name);
+    $('noise-row').hidden = state.regressor !== 'map';
     refreshRows();
     changed();
   });
+  $('noise').addEventListener('change', (e) => { state.noise = e.target.value; changed(); });
   changed();
+  await openSessionFromUrl();
+}
+
+// `/?session=<id>`: the capture page's "Open in the desktop tool" link. The session's values go
+// through the same import as a file would (validated by the server), then load like one.
+async function openSessionFromUrl() {
+  const id = new URLSearchParams(location.search).get('session');
+  if (!id) return;
+  const res = await api(`/api/sessions/${encodeURIComponent(id)}/export?format=json`, { raw: true });
+  const set = await api('/api/measurement-set/import', { method: 'POST', body: await res.text(), contentType: 'application/json' });
+  applySet(set);
 }
 
 start().catch(showError);

@@ -1,0 +1,94 @@
+// `caliper sessions list|export|delete`: capture sessions (docs/capture.md) stored by
+// `caliper serve` in the data folder's sessions.db.
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "caliper/capture/measurement_set.h"
+#include "caliper/capture/service.h"
+#include "common.h"
+
+namespace caliper::cli {
+
+namespace {
+
+std::string database_for(const std::string& data_dir) {
+  return data_dir.empty() ? capture::SessionStore::default_path() : capture::SessionStore::path_in(data_dir);
+}
+
+capture::Session find_or_throw(capture::CaptureService& svc, const std::string& id) {
+  auto s = svc.find(id);
+  if (!s) throw Error(ErrorKind::InvalidArgument, "no capture session '" + id + "' in " + svc.database_path() + " (see `caliper sessions list`)", "id");
+  return *s;
+}
+
+}  // namespace
+
+void register_sessions(CLI::App& app) {
+  auto data_dir = std::make_shared<std::string>();
+  CLI::App* cmd = app.add_subcommand("sessions", "List, export or delete capture sessions (measured in VR with `caliper serve`)");
+  cmd->add_option("--data", *data_dir, "data folder holding sessions.db (default: $XDG_DATA_HOME/caliper or ~/.local/share/caliper)");
+  cmd->require_subcommand(1);
+
+  CLI::App* list = cmd->add_subcommand("list", "One line per session, newest first: id, created, state, progress, values");
+  list->callback([=] {
+    capture::CaptureService svc({database_for(*data_dir), capture::ProfileRegistry::builtin(), {}});
+    const auto sessions = svc.list();
+    if (sessions.empty()) {
+      std::cout << "no capture sessions in " << svc.database_path() << "\n";
+      return;
+    }
+    std::cout << std::left << std::setw(16) << "id" << std::setw(22) << "created" << std::setw(11) << "state" << std::setw(7)
+              << "steps" << std::setw(7) << "mode" << "values (cm, kg)\n";
+    for (const auto& s : sessions) {
+      const auto& p = s.protocol;
+      std::ostringstream values;
+      values << std::fixed << std::setprecision(1);
+      for (const auto& [name, v] : p.measurement_set()) values << name << "=" << v << " ";
+      if (p.sex()) values << "sex=" << to_string(*p.sex());
+      std::cout << std::left << std::setw(16) << s.id << std::setw(22) << s.created << std::setw(11) << to_string(p.state())
+                << std::setw(7) << (std::to_string(p.steps_done()) + "/" + std::to_string(p.steps_total())) << std::setw(7)
+                << to_string(p.config().mode) << values.str() << "\n";
+    }
+  });
+
+  auto id = std::make_shared<std::string>();
+  auto output = std::make_shared<std::string>();
+  auto format = std::make_shared<std::string>();
+  CLI::App* exp = cmd->add_subcommand("export", "Write a session's measurement set (JSON or CSV; `caliper avatar --measurements` reads it)");
+  exp->add_option("id", *id, "session id (s-…)")->required();
+  exp->add_option("-o,--output", *output, "output file (.json or .csv); without it, JSON on standard output");
+  exp->add_option("--format", *format, "json or csv (default: from the output's extension, else json)")
+      ->check(CLI::IsMember({"json", "csv"}));
+  exp->callback([=] {
+    capture::CaptureService svc({database_for(*data_dir), capture::ProfileRegistry::builtin(), {}});
+    const capture::Session s = find_or_throw(svc, *id);
+    MeasurementSetFile set;
+    set.sex = s.protocol.sex();
+    set.edge = s.protocol.measurement_set();
+    std::string fmt = *format;
+    if (fmt.empty()) fmt = output->size() >= 4 && output->substr(output->size() - 4) == ".csv" ? "csv" : "json";
+    const std::string text = fmt == "csv" ? write_measurement_set_csv(set) : write_measurement_set_json(set);
+    if (s.protocol.state() != capture::SessionState::Done)
+      std::cerr << "caliper sessions: warning: session " << s.id << " is not finished (state " << to_string(s.protocol.state())
+                << "); exporting the values it has\n";
+    if (output->empty()) {
+      std::cout << text;
+    } else {
+      write_file(*output, text);
+      std::cout << "wrote " << *output << "\n";
+    }
+  });
+
+  auto del_id = std::make_shared<std::string>();
+  CLI::App* del = cmd->add_subcommand("delete", "Delete a session and all its points");
+  del->add_option("id", *del_id, "session id (s-…)")->required();
+  del->callback([=] {
+    capture::CaptureService svc({database_for(*data_dir), capture::ProfileRegistry::builtin(), {}});
+    find_or_throw(svc, *del_id);
+    svc.remove(*del_id);
+    std::cout << "deleted " << *del_id << "\n";
+  });
+}
+
+}  // namespace caliper::cli

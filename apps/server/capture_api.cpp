@@ -1,0 +1,421 @@
+// Capture endpoints (issue 6; docs/api.md "Capture sessions"): sessions created by a desktop or a
+// headset page, fed with WebXR controller samples, undone/redone, completed with sex and weight,
+// exported as measurement sets. Every write needs the session's pairing code
+// (X-Caliper-Pairing); repeated wrong codes are slowed down per session.
+#include "capture_api.h"
+
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+
+#include "caliper/capture/measurement_set.h"
+#include "caliper/capture/service.h"
+#include "caliper/errors.h"
+#include "caliper/measure/catalogue.h"
+
+namespace caliper::server {
+
+namespace {
+
+using nlohmann::ordered_json;
+using namespace caliper::capture;
+
+struct Refusal {
+  int status;
+  std::string message, field, kind;
+};
+
+[[noreturn]] void refuse(int status, const std::string& message, const std::string& field, const std::string& kind = "invalid_argument") {
+  throw Refusal{status, message, field, kind};
+}
+
+ApiResponse json_response(const ordered_json& j, int status = 200) {
+  ApiResponse r;
+  r.status = status;
+  r.body = j.dump();
+  return r;
+}
+
+double round_to(double v, double step) {
+  const double inverse = std::round(1.0 / step);
+  return std::round(v * inverse) / inverse;
+}
+double cm(double metres) { return round_to(metres * 100.0, 0.01); }
+
+ordered_json parse_object(const std::string& body, bool allow_empty) {
+  if (body.find_first_not_of(" \t\r\n") == std::string::npos) {
+    if (allow_empty) return ordered_json::object();
+    refuse(400, "the request body is empty; send a JSON object", "body");
+  }
+  ordered_json j;
+  try {
+    j = ordered_json::parse(body);
+  } catch (const nlohmann::json::parse_error& e) {
+    refuse(400, std::string("the request body is not valid JSON: ") + e.what(), "body");
+  }
+  if (!j.is_object()) refuse(400, "the request body must be a JSON object", "body");
+  return j;
+}
+
+void only_fields(const ordered_json& j, std::initializer_list<const char*> known) {
+  for (const auto& [key, value] : j.items()) {
+    bool ok = false;
+    for (const char* k : known) ok = ok || key == k;
+    if (!ok) {
+      std::string list;
+      for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+      refuse(400, "unknown field '" + key + "' (expected " + list + ")", key);
+    }
+  }
+}
+
+std::string string_field(const ordered_json& j, const char* key, const std::string& fallback) {
+  if (!j.contains(key) || j[key].is_null()) return fallback;
+  if (!j[key].is_string()) refuse(400, std::string(key) + " must be a string", key);
+  return j[key].get<std::string>();
+}
+
+std::optional<Sex> sex_field(const ordered_json& j) {
+  const std::string s = string_field(j, "sex", "");
+  if (s.empty()) return std::nullopt;
+  if (s == "female") return Sex::Female;
+  if (s == "male") return Sex::Male;
+  refuse(400, "sex must be \"female\" or \"male\"", "sex");
+}
+
+std::optional<double> weight_field(const ordered_json& j) {
+  if (!j.contains("weight_kg") || j["weight_kg"].is_null()) return std::nullopt;
+  if (!j["weight_kg"].is_number()) throw Error(ErrorKind::InvalidArgument, "weight_kg must be a number of kilograms", "weight");
+  return j["weight_kg"].get<double>();
+}
+
+// A finite number, or a 400 naming where it is. JavaScript's JSON.stringify turns NaN and
+// Infinity into null, so null is reported as such.
+double number_at(const ordered_json& v, const std::string& field, const std::string& where) {
+  if (v.is_null()) refuse(400, where + " is null (NaN or Infinity in JavaScript?); it must be a finite number", field);
+  if (!v.is_number()) refuse(400, where + " must be a number", field);
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) refuse(400, where + " must be a finite number", field);
+  return d;
+}
+
+std::vector<ControllerSample> parse_samples(const ordered_json& arr) {
+  if (!arr.is_array()) refuse(400, "samples must be an array of {t, hand, position, orientation, trigger}", "samples");
+  if (arr.size() > kMaxSamplesPerBatch)
+    refuse(413, "a batch holds at most " + std::to_string(kMaxSamplesPerBatch) + " samples (got " + std::to_string(arr.size()) + ")",
+           "samples", "payload_too_large");
+  std::vector<ControllerSample> out;
+  out.reserve(arr.size());
+  for (size_t i = 0; i < arr.size(); ++i) {
+    const std::string at = "samples[" + std::to_string(i) + "]";
+    const ordered_json& s = arr[i];
+    if (!s.is_object()) refuse(400, at + " must be an object", at);
+    for (const auto& [key, value] : s.items())
+      if (key != "t" && key != "hand" && key != "position" && key != "orientation" && key != "trigger")
+        refuse(400, at + ": unknown field '" + key + "' (expected t, hand, position, orientation, trigger)", at + "." + key);
+    for (const char* key : {"t", "hand", "position", "orientation", "trigger"})
+      if (!s.contains(key)) refuse(400, at + "." + key + " is missing", at + "." + key);
+    ControllerSample c;
+    c.t = number_at(s["t"], at + ".t", at + ".t");
+    if (!s["hand"].is_string()) refuse(400, at + ".hand must be \"left\" or \"right\"", at + ".hand");
+    c.hand = parse_hand(s["hand"].get<std::string>(), at + ".hand");
+    const ordered_json& p = s["position"];
+    if (!p.is_array() || p.size() != 3) refuse(400, at + ".position must be [x, y, z] in metres", at + ".position");
+    for (int k = 0; k < 3; ++k) c.position[k] = number_at(p[k], at + ".position", at + ".position[" + std::to_string(k) + "]");
+    const ordered_json& q = s["orientation"];
+    if (!q.is_array() || q.size() != 4) refuse(400, at + ".orientation must be a quaternion [x, y, z, w]", at + ".orientation");
+    for (int k = 0; k < 4; ++k) c.orientation[k] = number_at(q[k], at + ".orientation", at + ".orientation[" + std::to_string(k) + "]");
+    c.trigger = number_at(s["trigger"], at + ".trigger", at + ".trigger");
+    out.push_back(c);
+  }
+  return out;
+}
+
+ordered_json point_json(const CapturePoint& p) {
+  return {{"step", p.step},
+          {"repetition", p.repetition},
+          {"value_cm", cm(p.value_m)},
+          {"hand", to_string(p.hand)},
+          {"tip_m", {round_to(p.tip.x(), 1e-5), round_to(p.tip.y(), 1e-5), round_to(p.tip.z(), 1e-5)}},
+          {"other_tip_m", {round_to(p.other_tip.x(), 1e-5), round_to(p.other_tip.y(), 1e-5), round_to(p.other_tip.z(), 1e-5)}}};
+}
+
+ordered_json session_json(const Session& s, bool with_points) {
+  const CaptureProtocol& p = s.protocol;
+  ordered_json j;
+  j["id"] = s.id;
+  j["mode"] = to_string(p.config().mode);
+  j["steps"] = to_string(p.config().steps);
+  j["created"] = s.created;
+  j["profile"] = s.profile;
+  j["state"] = to_string(p.state());
+  if (const auto st = p.current_step()) {
+    j["step"] = {{"name", st->spec.name},
+                 {"kind", to_string(st->spec.kind)},
+                 {"title", st->spec.title},
+                 {"instruction", st->instruction},
+                 {"illustration", st->spec.illustration},
+                 {"repetition", st->repetition},
+                 {"repetitions_needed", st->repetitions_needed},
+                 {"points_needed", st->points_needed},
+                 {"points_done", st->points_done}};
+  } else {
+    j["step"] = nullptr;
+  }
+  j["progress"] = {{"done", p.steps_done()}, {"total", p.steps_total()}};
+  j["floor_m"] = p.floor_m() ? ordered_json(round_to(*p.floor_m(), 1e-5)) : ordered_json(nullptr);
+  ordered_json values = ordered_json::object();
+  for (const auto& v : p.values()) {
+    ordered_json reps = ordered_json::array();
+    for (double r : v.repetitions_m) reps.push_back(cm(r));
+    values[v.name] = {{"value_cm", v.value_m ? ordered_json(cm(*v.value_m)) : ordered_json(nullptr)},
+                      {"repetitions_cm", reps},
+                      {"rule", v.value_m ? to_string(v.rule) : "need_more"}};
+  }
+  j["values"] = values;
+  j["sex"] = p.sex() ? ordered_json(to_string(*p.sex())) : ordered_json(nullptr);
+  j["weight_kg"] = p.weight_kg() ? ordered_json(*p.weight_kg()) : ordered_json(nullptr);
+  ordered_json set = ordered_json::object();
+  const auto m = p.measurement_set();
+  for (const auto& info : measurement_catalogue()) {
+    auto it = m.find(info.name);
+    if (it != m.end()) set[info.name] = info.unit == Unit::Kilogram ? it->second : round_to(it->second, 0.01);
+  }
+  j["measurement_set"] = set;
+  j["can_undo"] = !p.points().empty();
+  j["can_redo"] = !p.redo_points().empty();
+  if (with_points) {
+    ordered_json pts = ordered_json::array();
+    for (const auto& pt : p.points()) pts.push_back(point_json(pt));
+    j["points"] = pts;
+  }
+  return j;
+}
+
+ordered_json event_json(const CaptureEvent& e) {
+  ordered_json j;
+  j["type"] = to_string(e.type);
+  j["step"] = e.step;
+  if (e.value_cm) j["value_cm"] = round_to(*e.value_cm, 0.01);
+  if (!e.reason.empty()) j["reason"] = e.reason;
+  return j;
+}
+
+// Wrong pairing codes per session: after kMaxFailures within kWindow, writes are refused (429)
+// until the window passes, so the 10^6 codes cannot be walked through.
+constexpr int kMaxFailures = 10;
+constexpr auto kWindow = std::chrono::seconds(60);
+
+}  // namespace
+
+bool is_capture_path(const std::string& path) {
+  return path == "/api/sessions" || path.rfind("/api/sessions/", 0) == 0 || path.rfind("/api/capture/", 0) == 0;
+}
+
+struct CaptureApi::Impl {
+  CaptureApiOptions options;
+  mutable std::mutex open_mutex;
+  mutable std::unique_ptr<CaptureService> service_ptr;
+  mutable std::mutex failures_mutex;
+  mutable std::map<std::string, std::deque<std::chrono::steady_clock::time_point>> failures;
+
+  CaptureService& service() const {
+    std::lock_guard<std::mutex> lock(open_mutex);
+    if (!service_ptr) {
+      CaptureServiceOptions o;
+      o.database = options.database;
+      if (!options.profiles_file.empty()) o.profiles.merge_file(options.profiles_file);
+      try {
+        service_ptr = std::make_unique<CaptureService>(std::move(o));
+      } catch (const Error& e) {
+        refuse(503, std::string("capture sessions are unavailable: ") + e.what(), "database", "unavailable");
+      }
+    }
+    return *service_ptr;
+  }
+
+  void require_pairing(const ApiRequest& req, const std::string& id) const {
+    const auto now = std::chrono::steady_clock::now();
+    {
+      std::lock_guard<std::mutex> lock(failures_mutex);
+      auto& f = failures[id];
+      while (!f.empty() && now - f.front() > kWindow) f.pop_front();
+      if (static_cast<int>(f.size()) >= kMaxFailures)
+        refuse(429, "too many wrong pairing codes for this session; wait a minute", "pairing_code", "too_many_attempts");
+    }
+    auto it = req.headers.find("x-caliper-pairing");
+    if (it == req.headers.end() || it->second.empty())
+      refuse(403, "this write needs the session's pairing code in the X-Caliper-Pairing header", "pairing_code", "forbidden");
+    if (!service().check_pairing(id, it->second)) {
+      std::lock_guard<std::mutex> lock(failures_mutex);
+      failures[id].push_back(now);
+      refuse(403, "wrong pairing code for this session", "pairing_code", "forbidden");
+    }
+  }
+
+  static ApiResponse not_found(const std::string& id) {
+    throw Refusal{404, "no capture session '" + id + "'", "id", "not_found"};
+  }
+
+  ApiResponse profiles() const {
+    const ProfileRegistry& r = service().profiles();
+    ordered_json all = ordered_json::object();
+    for (const auto& [id, p] : r.all())
+      all[id] = {{"label", p.label}, {"tip_offset_m", {p.tip_offset.x(), p.tip_offset.y(), p.tip_offset.z()}}};
+    return json_response({{"profiles", all}, {"default", r.default_id()}});
+  }
+
+  ApiResponse create(const ApiRequest& req) const {
+    const ordered_json j = parse_object(req.body, true);
+    only_fields(j, {"mode", "steps", "sex", "weight_kg", "profile"});
+    NewSession n;
+    n.mode = parse_mode(string_field(j, "mode", "self"));
+    n.steps = parse_step_set(string_field(j, "steps", "core"));
+    n.sex = sex_field(j);
+    n.weight_kg = weight_field(j);
+    n.profile = string_field(j, "profile", "");
+    const CaptureService::Created c = service().create(n);
+    return json_response({{"session", session_json(c.session, true)}, {"pairing_code", c.pairing_code}}, 201);
+  }
+
+  ApiResponse list() const {
+    ordered_json arr = ordered_json::array();
+    for (const auto& s : service().list()) arr.push_back(session_json(s, false));
+    return json_response({{"sessions", arr}});
+  }
+
+  ApiResponse samples(const ApiRequest& req, const std::string& id) const {
+    const ordered_json j = parse_object(req.body, false);
+    only_fields(j, {"profile", "samples"});
+    std::vector<std::string> profile;
+    if (j.contains("profile") && !j["profile"].is_null()) {
+      if (j["profile"].is_string()) profile.push_back(j["profile"].get<std::string>());
+      else if (j["profile"].is_array()) {
+        for (const auto& p : j["profile"])
+          if (p.is_string()) profile.push_back(p.get<std::string>());
+          else refuse(400, "profile must be a string or an array of strings", "profile");
+      } else refuse(400, "profile must be a string or an array of strings", "profile");
+    }
+    if (!j.contains("samples")) refuse(400, "samples is required", "samples");
+    const std::vector<ControllerSample> batch = parse_samples(j["samples"]);
+    auto r = service().feed(id, batch, profile);
+    if (!r) return not_found(id);
+    ordered_json events = ordered_json::array();
+    for (const auto& e : r->events) events.push_back(event_json(e));
+    return json_response({{"session", session_json(r->session, true)}, {"events", events}});
+  }
+
+  ApiResponse entries(const ApiRequest& req, const std::string& id) const {
+    const ordered_json j = parse_object(req.body, false);
+    only_fields(j, {"weight_kg", "sex"});
+    auto s = service().set_entries(id, weight_field(j), sex_field(j));
+    if (!s) return not_found(id);
+    return json_response({{"session", session_json(*s, true)}});
+  }
+
+  ApiResponse export_set(const ApiRequest& req, const std::string& id) const {
+    auto it = req.query.find("format");
+    const std::string format = it == req.query.end() ? "json" : it->second;
+    if (format != "json" && format != "csv") refuse(400, "format must be json or csv", "format");
+    auto s = service().find(id);
+    if (!s) return not_found(id);
+    MeasurementSetFile set;
+    set.sex = s->protocol.sex();
+    set.edge = s->protocol.measurement_set();
+    ApiResponse out;
+    if (format == "csv") {
+      out.content_type = "text/csv; charset=utf-8";
+      out.body = write_measurement_set_csv(set);
+    } else {
+      out.body = write_measurement_set_json(set);
+    }
+    out.download_name = "caliper-" + id + "." + format;
+    return out;
+  }
+
+  ApiResponse route(const ApiRequest& req) const {
+    const std::string& path = req.path;
+    const std::string& m = req.method;
+    if (path == "/api/capture/profiles") {
+      if (m != "GET") refuse(405, m + " is not allowed on " + path + " (use GET)", "method", "method_not_allowed");
+      return profiles();
+    }
+    if (path == "/api/sessions") {
+      if (m == "GET") return list();
+      if (m == "POST") return create(req);
+      refuse(405, m + " is not allowed on " + path + " (use GET or POST)", "method", "method_not_allowed");
+    }
+    const std::string prefix = "/api/sessions/";
+    if (path.rfind(prefix, 0) != 0) refuse(404, "no such endpoint: " + path + " (see docs/api.md)", "path", "not_found");
+    const std::string rest = path.substr(prefix.size());
+    const size_t slash = rest.find('/');
+    const std::string id = rest.substr(0, slash);
+    const std::string action = slash == std::string::npos ? "" : rest.substr(slash + 1);
+    if (id.empty()) refuse(404, "no such endpoint: " + path, "path", "not_found");
+    auto allow = [&](const char* method) {
+      if (m != method) refuse(405, m + " is not allowed on " + path + " (use " + method + ")", "method", "method_not_allowed");
+    };
+    auto exists = [&] {
+      if (!service().find(id)) not_found(id);
+    };
+    if (action.empty()) {
+      if (m == "GET") {
+        auto s = service().find(id);
+        if (!s) return not_found(id);
+        return json_response({{"session", session_json(*s, true)}});
+      }
+      if (m == "DELETE") {
+        exists();
+        require_pairing(req, id);
+        service().remove(id);
+        ApiResponse r;
+        r.status = 204;
+        r.content_type = "application/json";
+        return r;
+      }
+      refuse(405, m + " is not allowed on " + path + " (use GET or DELETE)", "method", "method_not_allowed");
+    }
+    if (action == "export") {
+      allow("GET");
+      return export_set(req, id);
+    }
+    if (action == "samples" || action == "undo" || action == "redo" || action == "entries") {
+      allow("POST");
+      exists();
+      require_pairing(req, id);
+      if (action == "samples") return samples(req, id);
+      if (action == "entries") return entries(req, id);
+      auto s = action == "undo" ? service().undo(id) : service().redo(id);
+      if (!s) return not_found(id);
+      return json_response({{"session", session_json(*s, true)}});
+    }
+    refuse(404, "no such endpoint: " + path + " (see docs/api.md)", "path", "not_found");
+  }
+};
+
+CaptureApi::CaptureApi(CaptureApiOptions options) : impl_(std::make_unique<Impl>()) { impl_->options = std::move(options); }
+CaptureApi::~CaptureApi() = default;
+
+ApiResponse CaptureApi::handle(const ApiRequest& request) const {
+  try {
+    return impl_->route(request);
+  } catch (const Refusal& r) {
+    return error_response(r.status, r.message, r.field, r.kind);
+  } catch (const Error& e) {
+    switch (e.kind()) {
+      case ErrorKind::InvalidArgument: return error_response(400, e.what(), e.field(), "invalid_argument");
+      case ErrorKind::OutOfRange: return error_response(400, e.what(), e.field(), "out_of_range");
+      case ErrorKind::Unsupported: return error_response(422, e.what(), e.field(), "unsupported");
+      case ErrorKind::Format: return error_response(500, e.what(), e.field(), "database_format");
+      case ErrorKind::Io: return error_response(500, e.what(), e.field(), "database_io");
+    }
+    return error_response(500, e.what(), e.field(), "internal");
+  } catch (const std::exception& e) {
+    return error_response(500, std::string("internal error: ") + e.what(), {}, "internal");
+  }
+}
+
+}  // namespace caliper::server

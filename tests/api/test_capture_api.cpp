@@ -1,0 +1,367 @@
+// The capture endpoints (docs/api.md "Capture sessions"): a scripted person measured through
+// the JSON API (values checked against the person's landmarks), pairing (403 without or with a
+// wrong code, 429 after repeated wrong codes), bad input (null/NaN, malformed JSON, huge batches,
+// unknown fields → 4xx naming the field), a server dropped mid-session and a new one resuming,
+// and the same over real HTTP and HTTPS (headers reach the API; the self-signed certificate works).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "api.h"
+#include "api_fixture.h"
+#include "caliper/capture/measurement_set.h"
+#include "caliper/errors.h"
+#include "caliper/capture/profiles.h"
+#include "temp_files.h"
+#include "test_capture_script.h"
+// httplib after Eigen (its <resolv.h> defines `_res`).
+#include <httplib.h>
+
+#include "server.h"
+#include "tls_certificate.h"
+
+namespace caliper::server {
+namespace {
+
+using nlohmann::json;
+using test::SampleScript;
+using test::ScriptedPerson;
+using test::TempDir;
+
+const Eigen::Vector3d kTouchPlus = capture::ProfileRegistry::builtin().find("meta-quest-touch-plus")->tip_offset;
+
+ApiOptions options_for(const std::string& db) {
+  ApiOptions o;
+  o.models_dir = test::toy_models_dir();
+  o.default_model = "toy";
+  o.sessions_database = db;
+  return o;
+}
+
+ApiResponse call(const Api& api, const std::string& method, const std::string& path, const std::string& body = {},
+                 const std::string& code = {}, std::map<std::string, std::string> query = {}) {
+  ApiRequest r;
+  r.method = method;
+  r.path = path;
+  r.body = body;
+  r.query = std::move(query);
+  r.content_type = "application/json";
+  if (!code.empty()) r.headers["x-caliper-pairing"] = code;
+  return api.handle(r);
+}
+
+json body_of(const ApiResponse& r) { return json::parse(r.body); }
+
+json samples_json(const std::vector<capture::ControllerSample>& batch) {
+  json arr = json::array();
+  for (const auto& s : batch)
+    arr.push_back({{"t", s.t},
+                   {"hand", s.hand == capture::Hand::Left ? "left" : "right"},
+                   {"position", {s.position.x(), s.position.y(), s.position.z()}},
+                   {"orientation", {s.orientation[0], s.orientation[1], s.orientation[2], s.orientation[3]}},
+                   {"trigger", s.trigger}});
+  return arr;
+}
+
+// Sends the script's samples in ~100 ms batches; returns every event.
+json send(const Api& api, const std::string& id, const std::string& code, SampleScript& s) {
+  json events = json::array();
+  for (const auto& b : s.batches()) {
+    const ApiResponse r = call(api, "POST", "/api/sessions/" + id + "/samples",
+                               json{{"profile", "meta-quest-touch-plus"}, {"samples", samples_json(b)}}.dump(), code);
+    EXPECT_EQ(r.status, 200) << r.body;
+    const json j = body_of(r);  // kept: a range-for over a temporary's member would dangle
+    for (const auto& e : j["events"]) events.push_back(e);
+  }
+  return events;
+}
+
+std::pair<std::string, std::string> create(const Api& api, const json& body = json::object()) {
+  const ApiResponse r = call(api, "POST", "/api/sessions", body.dump());
+  EXPECT_EQ(r.status, 201) << r.body;
+  const json j = body_of(r);
+  return {j["session"]["id"].get<std::string>(), j["pairing_code"].get<std::string>()};
+}
+
+void expect_error(const ApiResponse& r, int status, const std::string& field) {
+  EXPECT_EQ(r.status, status) << r.body;
+  const json j = body_of(r);
+  ASSERT_TRUE(j.contains("error")) << r.body;
+  EXPECT_EQ(j["error"]["field"], field) << r.body;
+  EXPECT_TRUE(j["error"]["message"].is_string());
+}
+
+TEST(CaptureApi, ProfilesListTipOffsets) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const ApiResponse r = call(api, "GET", "/api/capture/profiles");
+  ASSERT_EQ(r.status, 200);
+  const json j = body_of(r);
+  EXPECT_TRUE(j["profiles"].contains(j["default"].get<std::string>()));
+  for (const char* id : {"oculus-touch-v3", "meta-quest-touch-plus", "htc-vive"}) {
+    ASSERT_TRUE(j["profiles"].contains(id)) << id;
+    EXPECT_EQ(j["profiles"][id]["tip_offset_m"].size(), 3u);
+  }
+  EXPECT_DOUBLE_EQ(j["profiles"]["meta-quest-touch-plus"]["tip_offset_m"][2].get<double>(), kTouchPlus.z());
+}
+
+TEST(CaptureApi, AScriptedPersonMeasuredThroughTheApi) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = create(api, {{"mode", "self"}, {"steps", "core"}});
+  ASSERT_EQ(code.size(), 6u);
+  json s = body_of(call(api, "GET", "/api/sessions/" + id))["session"];
+  EXPECT_EQ(s["state"], "floor");
+  EXPECT_EQ(s["step"]["name"], "floor");
+  EXPECT_EQ(s["step"]["kind"], "floor");
+  EXPECT_EQ(s["step"]["points_needed"], 5);
+  EXPECT_EQ(s["progress"]["total"], 6);
+  EXPECT_TRUE(s["floor_m"].is_null());
+  EXPECT_FALSE(s.contains("pairing_code"));
+
+  ScriptedPerson person;
+  SampleScript script(kTouchPlus, 31);
+  script.hold(1, Eigen::Vector3d(0, person.floor, 0.3), 0.4);  // a short press first
+  test::script_floor(script, person);
+  test::script_core(script, person);
+  const json events = send(api, id, code, script);
+  int accepted = 0, rejected = 0, steps = 0, done = 0;
+  for (const auto& e : events) {
+    if (e["type"] == "point_accepted") ++accepted;
+    if (e["type"] == "point_rejected") {
+      ++rejected;
+      EXPECT_NE(e["reason"].get<std::string>().find("held 0.4 s"), std::string::npos) << e.dump();
+    }
+    if (e["type"] == "step_done") ++steps;
+    if (e["type"] == "session_done") ++done;
+  }
+  EXPECT_EQ(accepted, 15);
+  EXPECT_EQ(rejected, 1);
+  EXPECT_EQ(steps, 6);
+  EXPECT_EQ(done, 1);
+
+  s = body_of(call(api, "GET", "/api/sessions/" + id))["session"];
+  EXPECT_EQ(s["state"], "entries");
+  EXPECT_TRUE(s["step"].is_null());
+  EXPECT_EQ(s["values"]["stature"]["repetitions_cm"].size(), 2u);
+  EXPECT_EQ(s["points"].size(), 15u);
+  const ApiResponse entries = call(api, "POST", "/api/sessions/" + id + "/entries", R"({"weight_kg": 70.5, "sex": "male"})", code);
+  ASSERT_EQ(entries.status, 200) << entries.body;
+  s = body_of(entries)["session"];
+  EXPECT_EQ(s["state"], "done");
+  EXPECT_EQ(s["measurement_set"]["weight"], 70.5);
+
+  for (const std::string format : {"json", "csv"}) {
+    const ApiResponse e = call(api, "GET", "/api/sessions/" + id + "/export", {}, {}, {{"format", format}});
+    ASSERT_EQ(e.status, 200) << e.body;
+    EXPECT_FALSE(e.download_name.empty());
+    const MeasurementSetFile set = parse_measurement_set(e.body);
+    ASSERT_TRUE(set.sex);
+    EXPECT_EQ(*set.sex, Sex::Male);
+    EXPECT_NEAR(set.edge.at("stature"), person.stature() * 100, 0.25);
+    EXPECT_NEAR(set.edge.at("span"), person.span() * 100, 0.1);
+    EXPECT_NEAR(set.edge.at("crotch_height"), person.crotch_height() * 100, 0.25);
+    EXPECT_NEAR(set.edge.at("hip_breadth"), person.hip_breadth() * 100, 0.1);
+    EXPECT_NEAR(set.edge.at("arm_length"), person.arm_length() * 100, 0.1);
+    EXPECT_DOUBLE_EQ(set.edge.at("weight"), 70.5);
+  }
+  // The desktop tool's own importer accepts the export.
+  const ApiResponse exported = call(api, "GET", "/api/sessions/" + id + "/export");
+  const ApiResponse imported = call(api, "POST", "/api/measurement-set/import", exported.body);
+  EXPECT_EQ(imported.status, 200) << imported.body;
+
+  const json list = body_of(call(api, "GET", "/api/sessions"));
+  ASSERT_EQ(list["sessions"].size(), 1u);
+  EXPECT_FALSE(list["sessions"][0].contains("points"));
+  EXPECT_EQ(list["sessions"][0]["id"], id);
+}
+
+TEST(CaptureApi, UndoAndRedo) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = create(api);
+  ScriptedPerson person;
+  SampleScript script(kTouchPlus, 32);
+  test::script_floor(script, person);
+  send(api, id, code, script);
+  json s = body_of(call(api, "POST", "/api/sessions/" + id + "/undo", "", code))["session"];
+  EXPECT_EQ(s["state"], "floor");
+  EXPECT_EQ(s["step"]["points_done"], 4);
+  EXPECT_EQ(s["can_redo"], true);
+  s = body_of(call(api, "POST", "/api/sessions/" + id + "/redo", "", code))["session"];
+  EXPECT_EQ(s["state"], "measuring");
+  EXPECT_EQ(s["step"]["name"], "stature");
+  EXPECT_EQ(s["can_redo"], false);
+  expect_error(call(api, "POST", "/api/sessions/" + id + "/undo"), 403, "pairing_code");
+}
+
+TEST(CaptureApi, WritesNeedThePairingCode) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = create(api);
+  const std::string batch = json{{"samples", json::array()}}.dump();
+  expect_error(call(api, "POST", "/api/sessions/" + id + "/samples", batch), 403, "pairing_code");
+  std::string wrong = code;
+  wrong[5] = wrong[5] == '0' ? '1' : '0';
+  expect_error(call(api, "POST", "/api/sessions/" + id + "/samples", batch, wrong), 403, "pairing_code");
+  expect_error(call(api, "POST", "/api/sessions/" + id + "/entries", R"({"weight_kg": 60})", wrong), 403, "pairing_code");
+  expect_error(call(api, "DELETE", "/api/sessions/" + id), 403, "pairing_code");
+  EXPECT_EQ(call(api, "POST", "/api/sessions/" + id + "/samples", batch, code).status, 200);
+  // Reading needs no code.
+  EXPECT_EQ(call(api, "GET", "/api/sessions/" + id).status, 200);
+  // Guessing is slowed down: after 10 wrong codes in a minute even the right one waits.
+  for (int i = 0; i < 8; ++i) call(api, "POST", "/api/sessions/" + id + "/undo", "", wrong);
+  expect_error(call(api, "POST", "/api/sessions/" + id + "/undo", "", code), 429, "pairing_code");
+  // Another session is not affected.
+  const auto [id2, code2] = create(api);
+  EXPECT_EQ(call(api, "DELETE", "/api/sessions/" + id2, "", code2).status, 204);
+  expect_error(call(api, "GET", "/api/sessions/" + id2), 404, "id");
+}
+
+TEST(CaptureApi, BadInputIsA4xxNamingTheField) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = create(api);
+  const std::string path = "/api/sessions/" + id + "/samples";
+  auto sample = [] {
+    return json{{"t", 1.0}, {"hand", "left"}, {"position", {0, 1, 0}}, {"orientation", {0, 0, 0, 1}}, {"trigger", 0}};
+  };
+  json bad = sample();
+  bad["position"][1] = nullptr;  // JSON.stringify(NaN)
+  expect_error(call(api, "POST", path, json{{"samples", {sample(), bad}}}.dump(), code), 400, "samples[1].position");
+  expect_error(call(api, "POST", path, R"({"samples": [{"t": 1, "hand": "left", "position": [0, NaN, 0]}]})", code), 400, "body");
+  expect_error(call(api, "POST", path, "{\"samples\": [", code), 400, "body");
+  expect_error(call(api, "POST", path, "", code), 400, "body");
+  bad = sample();
+  bad["trigger"] = 2;
+  expect_error(call(api, "POST", path, json{{"samples", {bad}}}.dump(), code), 400, "samples[0].trigger");
+  bad = sample();
+  bad["hand"] = "middle";
+  expect_error(call(api, "POST", path, json{{"samples", {bad}}}.dump(), code), 400, "samples[0].hand");
+  bad = sample();
+  bad["orientation"] = {0, 0, 0};
+  expect_error(call(api, "POST", path, json{{"samples", {bad}}}.dump(), code), 400, "samples[0].orientation");
+  bad = sample();
+  bad.erase("t");
+  expect_error(call(api, "POST", path, json{{"samples", {bad}}}.dump(), code), 400, "samples[0].t");
+  expect_error(call(api, "POST", path, json{{"samples", {sample()}}, {"extra", 1}}.dump(), code), 400, "extra");
+  expect_error(call(api, "POST", path, json{{"samples", {sample()}}, {"profile", "toaster"}}.dump(), code), 400, "profile");
+  json huge = json::array();
+  for (size_t i = 0; i <= capture::kMaxSamplesPerBatch; ++i) huge.push_back(sample());
+  expect_error(call(api, "POST", path, json{{"samples", huge}}.dump(), code), 413, "samples");
+  expect_error(call(api, "POST", "/api/sessions", R"({"mode": "both"})"), 400, "mode");
+  expect_error(call(api, "POST", "/api/sessions", R"({"steps": "some"})"), 400, "steps");
+  expect_error(call(api, "POST", "/api/sessions", R"({"weight_kg": -3})"), 400, "weight");
+  expect_error(call(api, "POST", "/api/sessions", R"({"sex": "neutral"})"), 400, "sex");
+  expect_error(call(api, "POST", "/api/sessions/" + id + "/entries", R"({"weight_kg": "heavy"})", code), 400, "weight");
+  expect_error(call(api, "GET", "/api/sessions/s-nope"), 404, "id");
+  expect_error(call(api, "POST", "/api/sessions/s-nope/samples", "{}", code), 404, "id");
+  expect_error(call(api, "GET", "/api/sessions/" + id + "/export", {}, {}, {{"format", "xml"}}), 400, "format");
+  expect_error(call(api, "PUT", "/api/sessions"), 405, "method");
+  expect_error(call(api, "GET", "/api/sessions/" + id + "/samples"), 405, "method");
+  // Nothing of the refused batches reached the session.
+  EXPECT_EQ(body_of(call(api, "GET", "/api/sessions/" + id))["session"]["points"].size(), 0u);
+}
+
+// The server process dies without closing anything: its Api is never destroyed (deliberately
+// leaked), a new Api opens the same database, and the session finishes with the values an
+// uninterrupted session gives.
+TEST(CaptureApi, ANewServerResumesASessionMidway) {
+  TempDir dir;
+  ScriptedPerson person;
+  auto* first = new Api(options_for(dir / "s.db"));
+  const auto [id, code] = create(*first);
+  SampleScript a(kTouchPlus, 40);
+  test::script_floor(a, person);
+  a.hold(1, person.head_top, 1.2);
+  send(*first, id, code, a);
+  // `first` is abandoned here, not destroyed: the state must already be on disk.
+
+  Api second(options_for(dir / "s.db"));
+  json s = body_of(call(second, "GET", "/api/sessions/" + id))["session"];
+  EXPECT_EQ(s["step"]["name"], "stature");
+  EXPECT_EQ(s["step"]["repetition"], 2);
+  EXPECT_EQ(s["points"].size(), 6u);
+  SampleScript b(kTouchPlus, 41);
+  b.hold(1, person.head_top, 1.2);
+  for (int rep = 0; rep < 2; ++rep) b.hold(0, person.left_fingertip, 1.2, &person.right_fingertip);
+  for (int rep = 0; rep < 2; ++rep) b.hold(1, person.crotch, 1.2);
+  for (int rep = 0; rep < 2; ++rep) b.hold(1, person.hip_right, 1.2, &person.hip_left);
+  for (int rep = 0; rep < 2; ++rep) b.hold(0, person.wrist, 1.2, &person.acromion);
+  send(second, id, code, b);
+  s = body_of(call(second, "POST", "/api/sessions/" + id + "/entries", R"({"weight_kg": 58, "sex": "female"})", code))["session"];
+  EXPECT_EQ(s["state"], "done");
+  EXPECT_NEAR(s["measurement_set"]["stature"].get<double>(), person.stature() * 100, 0.25);
+  EXPECT_NEAR(s["measurement_set"]["arm_length"].get<double>(), person.arm_length() * 100, 0.1);
+  (void)first;
+}
+
+class CaptureHttp : public ::testing::Test {
+ protected:
+  static void serve(ServerOptions o, const std::function<void(int port)>& body) {
+    o.host = "127.0.0.1";
+    o.port = 0;
+    o.web_root = test::toy_web_root();
+    Server srv(o);
+    const int port = srv.bind();
+    std::thread t([&] { srv.run(); });
+    body(port);
+    srv.stop();
+    t.join();
+  }
+};
+
+TEST_F(CaptureHttp, ThePairingHeaderTravelsOverHttp) {
+  TempDir dir;
+  ServerOptions o;
+  o.api = options_for(dir / "s.db");
+  serve(o, [&](int port) {
+    httplib::Client c("127.0.0.1", port);
+    auto created = c.Post("/api/sessions", "{}", "application/json");
+    ASSERT_TRUE(created);
+    ASSERT_EQ(created->status, 201);
+    const json j = json::parse(created->body);
+    const std::string id = j["session"]["id"], code = j["pairing_code"];
+    auto refused = c.Post(("/api/sessions/" + id + "/undo").c_str(), "", "application/json");
+    ASSERT_TRUE(refused);
+    EXPECT_EQ(refused->status, 403);
+    httplib::Headers h = {{"X-Caliper-Pairing", code}};
+    auto ok = c.Post(("/api/sessions/" + id + "/undo").c_str(), h, "", "application/json");
+    ASSERT_TRUE(ok);
+    EXPECT_EQ(ok->status, 200) << ok->body;
+  });
+}
+
+TEST_F(CaptureHttp, HttpsWithAGeneratedCertificate) {
+  TempDir dir;
+  const CertificateFiles files = ensure_self_signed_certificate(dir / "data", {"localhost", "127.0.0.1"});
+  EXPECT_TRUE(files.created);
+  EXPECT_TRUE(std::filesystem::exists(files.cert_file));
+  EXPECT_EQ(std::filesystem::status(files.key_file).permissions() & std::filesystem::perms::others_read, std::filesystem::perms::none);
+  EXPECT_FALSE(ensure_self_signed_certificate(dir / "data", {"localhost"}).created);  // reused
+  ServerOptions o;
+  o.api = options_for(dir / "s.db");
+  o.https = true;
+  o.cert_file = files.cert_file;
+  o.key_file = files.key_file;
+  serve(o, [&](int port) {
+    httplib::SSLClient c("127.0.0.1", port);
+    c.set_ca_cert_path(files.cert_file.c_str());
+    c.enable_server_certificate_verification(true);
+    auto r = c.Get("/api/capture/profiles");
+    ASSERT_TRUE(r) << httplib::to_string(r.error());
+    EXPECT_EQ(r->status, 200);
+    // Plain HTTP to the HTTPS port gets no answer.
+    httplib::Client plain("127.0.0.1", port);
+    plain.set_read_timeout(2, 0);
+    auto p = plain.Get("/api/capture/profiles");
+    EXPECT_TRUE(!p || p->status != 200);
+  });
+  ServerOptions broken = o;
+  broken.key_file = dir / "missing-key.pem";
+  EXPECT_THROW(Server s(broken), caliper::Error);
+}
+
+}  // namespace
+}  // namespace caliper::server
