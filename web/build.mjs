@@ -40,7 +40,7 @@ await cp(join(three, 'examples', 'jsm', 'controls', 'OrbitControls.js'),
 await cp(join(three, 'LICENSE'), join(dist, 'vendor', 'three', 'LICENSE'));
 
 // Both pages must be there (a missing file would only show as a 404 in a headset).
-for (const page of ['index.html', 'app.js', 'style.css', 'capture.html', 'capture.js', 'capture.css']) {
+for (const page of ['index.html', 'app.js', 'style.css', 'shared.js', 'capture.html', 'capture.js', 'capture.css']) {
   try {
     await access(join(dist, page));
   } catch {

@@ -7,19 +7,13 @@
 
 #include "caliper/errors.h"
 #include "sha256.h"
+#include "utc_time.h"
 
 namespace caliper::capture {
 
 namespace {
 
-std::string now_iso() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
+using detail::now_iso;
 
 // Identifiers and codes come from the OS's entropy source: they guard who may write.
 std::string random_digits(int n, std::random_device& rd) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "caliper/errors.h"
+#include "utc_time.h"
 
 namespace caliper::capture {
 
@@ -51,14 +52,7 @@ CREATE TABLE measurement_values (
 );
 )sql";
 
-std::string now_iso() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
+using detail::now_iso;
 
 // A prepared statement that finalises itself.
 class Stmt {

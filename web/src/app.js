@@ -3,6 +3,7 @@
 // documented JSON API (docs/api.md); three.js is served locally (see build.mjs).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
+import { decodeBase64 } from './shared.js';
 
 // ---------------------------------------------------------------------------------------------
 // API
@@ -34,13 +35,6 @@ async function api(path, { method = 'GET', body, contentType = 'application/json
     throw new ApiError(res.status, payload?.error ?? { message: `HTTP ${res.status}` });
   }
   return raw ? res : res.json();
-}
-
-function decodeBase64(text, Type) {
-  const bin = atob(text);
-  const bytes = new Uint8Array(bin.length);
-  for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
-  return new Type(bytes.buffer);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -5,6 +5,7 @@
 // ISAK repetition rule and says what comes next. The HTTP contract is in docs/capture.md;
 // this page's own notes are in docs/capture-page.md.
 import * as THREE from 'three';
+import { decodeBase64 } from './shared.js';
 
 // ---------------------------------------------------------------------------------------------
 // API
@@ -37,13 +38,6 @@ async function api(path, { method = 'GET', body, write = false } = {}) {
     throw new ApiError(res.status, payload?.error ?? { message: `HTTP ${res.status}` });
   }
   return res.status === 204 ? null : res.json();
-}
-
-function decodeBase64(text, Type) {
-  const bin = atob(text);
-  const bytes = new Uint8Array(bin.length);
-  for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
-  return new Type(bytes.buffer);
 }
 
 const FRIENDLY = {
