@@ -104,13 +104,10 @@ void require_dir(const fs::path& p, const std::string& what) {
                 "--assets");
 }
 
-}  // namespace
-
-Target read_target(const std::string& path, int vertex_count) {
-  Target t;
-  t.path = path;
-  t.name = stem_of_target(path);
-  const std::string text = gunzip(path);
+// Calls visit(line_number, fields) for every line of `text` that has fields (1-based numbers,
+// so errors can point at the line).
+template <class Visit>
+void for_each_line(const std::string& text, Visit&& visit) {
   size_t start = 0;
   int line_no = 0;
   while (start < text.size()) {
@@ -120,7 +117,19 @@ Target read_target(const std::string& path, int vertex_count) {
     start = end + 1;
     ++line_no;
     const auto f = fields(line);
-    if (f.empty() || f[0].front() == '#') continue;
+    if (!f.empty()) visit(line_no, f);
+  }
+}
+
+}  // namespace
+
+Target read_target(const std::string& path, int vertex_count) {
+  Target t;
+  t.path = path;
+  t.name = stem_of_target(path);
+  const std::string text = gunzip(path);
+  for_each_line(text, [&](int line_no, const auto& f) {
+    if (f[0].front() == '#') return;
     auto bad = [&](const std::string& what) {
       throw Error(ErrorKind::Format, path + ": line " + std::to_string(line_no) + ": " + what, t.name);
     };
@@ -137,7 +146,7 @@ Target read_target(const std::string& path, int vertex_count) {
     }
     t.indices.push_back(static_cast<int>(index));
     t.deltas.push_back(d);
-  }
+  });
   return t;
 }
 
@@ -149,20 +158,11 @@ BaseMesh read_base_mesh(const std::string& dir) {
   BaseMesh m;
   std::vector<double> xyz;
   std::vector<std::array<int, 3>> tris;
-  size_t start = 0;
-  int line_no = 0;
-  auto bad = [&](const std::string& what) {
-    throw Error(ErrorKind::Format, obj.string() + ": line " + std::to_string(line_no) + ": " + what, "base.obj");
-  };
   std::vector<std::vector<long>> polygons;
-  while (start < text.size()) {
-    size_t end = text.find('\n', start);
-    if (end == std::string::npos) end = text.size();
-    const std::string_view line(text.data() + start, end - start);
-    start = end + 1;
-    ++line_no;
-    const auto f = fields(line);
-    if (f.empty()) continue;
+  for_each_line(text, [&](int line_no, const auto& f) {
+    auto bad = [&](const std::string& what) {
+      throw Error(ErrorKind::Format, obj.string() + ": line " + std::to_string(line_no) + ": " + what, "base.obj");
+    };
     if (f[0] == "v") {
       if (f.size() < 4) bad("a vertex needs 3 coordinates");
       for (int c = 1; c <= 3; ++c) {
@@ -181,7 +181,7 @@ BaseMesh read_base_mesh(const std::string& dir) {
       }
       polygons.push_back(std::move(poly));
     }
-  }
+  });
   const long n = static_cast<long>(xyz.size() / 3);
   if (n < kBodyVertexCount)
     throw Error(ErrorKind::Format, obj.string() + ": has " + std::to_string(n) + " vertices, hm08 has at least " +
@@ -232,19 +232,13 @@ BaseMesh read_base_mesh(const std::string& dir) {
   const fs::path mirror_path = root / "mesh_metadata" / "hm08.mirror";
   const std::string mirror_text = read_text(mirror_path);
   m.mirror.assign(static_cast<size_t>(n), -1);
-  std::istringstream in(mirror_text);
-  std::string line;
-  line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const auto f = fields(line);
-    if (f.empty()) continue;
+  for_each_line(mirror_text, [&](int line_no, const auto& f) {
     long a = 0, b = 0;
     if (f.size() < 2 || !parse_int(f[0], a) || !parse_int(f[1], b) || a < 0 || b < 0 || a >= n || b >= n)
       throw Error(ErrorKind::Format, mirror_path.string() + ": line " + std::to_string(line_no) + ": expected 'index mirror side'",
                   "hm08.mirror");
     m.mirror[static_cast<size_t>(a)] = static_cast<int>(b);
-  }
+  });
   for (long v = 0; v < kBodyVertexCount; ++v)
     if (m.mirror[static_cast<size_t>(v)] < 0)
       throw Error(ErrorKind::Format, mirror_path.string() + ": body vertex " + std::to_string(v) + " has no mirror", "hm08.mirror");
