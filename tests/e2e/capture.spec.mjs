@@ -15,84 +15,25 @@
 // --screenshots DIR writes capture-vr.png (in the headset, panel visible), capture-mirror.png
 // (the avatar at the end) and capture-page.png (the 2-D page). --base URL uses a running server.
 // Exit: 0 pass, 1 fail, 77 skipped (no browser, no playwright-core/iwer or no body model).
-import { spawn, spawnSync } from 'node:child_process';
-import { existsSync, readFileSync, readdirSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { spawnSync } from 'node:child_process';
+import { readFileSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { dirname, join, resolve } from 'node:path';
-import { createRequire } from 'node:module';
-import { fileURLToPath } from 'node:url';
+import { dirname, join } from 'node:path';
+import {
+  caliper, screenshots, option, webRequire, skip, loadChromium, prepare, check, fail, finish, startServer,
+  launchBrowser,
+} from './harness.mjs';
 
-const root = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const args = process.argv.slice(2);
-const opt = (name, fallback) => {
-  const i = args.indexOf(name);
-  return i >= 0 && i + 1 < args.length ? args[i + 1] : fallback;
-};
-const caliper = resolve(opt('--caliper', join(root, 'build', 'bin', 'caliper')));
-const screenshots = opt('--screenshots', null);
-const givenBase = opt('--base', null);
-const chromiumPath = process.env.CALIPER_CHROMIUM ?? '/usr/bin/chromium';
-
-function skip(why) {
-  console.log(`SKIP: ${why}`);
-  process.exit(77);
-}
-
-const webRequire = createRequire(join(root, 'web', 'package.json'));
-let chromium, iwerSource;
+const givenBase = option('--base', null);
+const chromium = loadChromium();
+let iwerSource;
 try {
-  ({ chromium } = webRequire('playwright-core'));
   iwerSource = readFileSync(join(dirname(webRequire.resolve('iwer/package.json')), 'build', 'iwer.js'), 'utf8');
 } catch {
-  skip('playwright-core or iwer is not installed in web/ (run `npm ci` in web/)');
+  skip('iwer is not installed in web/ (run `npm ci` in web/)');
 }
-if (!existsSync(chromiumPath)) skip(`no Chromium at ${chromiumPath}`);
-if (!existsSync(caliper)) {
-  console.error(`FAIL: no caliper binary at ${caliper}`);
-  process.exit(1);
-}
-const modelsDir = process.env.CALIPER_MODELS_DIR ?? join(root, 'models');
-if (!existsSync(modelsDir) || !readdirSync(modelsDir).some((f) => /^mannequin-.*\.npz$/.test(f)))
-  skip(`no mannequin model in ${modelsDir} (commit models/ or set CALIPER_MODELS_DIR)`);
-
-const build = spawnSync(process.execPath, [join(root, 'web', 'build.mjs')], { encoding: 'utf8' });
-if (build.status !== 0) {
-  console.error(`FAIL: web/build.mjs: ${build.stderr}`);
-  process.exit(1);
-}
-
-// ---------------------------------------------------------------------------------------------
-
-let failures = 0;
-function check(ok, what, detail = '') {
-  if (ok) console.log(`ok   ${what}${detail ? ` (${detail})` : ''}`);
-  else {
-    failures += 1;
-    console.log(`FAIL ${what}${detail ? `: ${detail}` : ''}`);
-  }
-  return ok;
-}
-
+const modelsDir = prepare();
 const dataDir = mkdtempSync(join(tmpdir(), 'caliper-capture-e2e-'));
-function startServer() {
-  return new Promise((resolvePromise, reject) => {
-    // Sessions go to a throw-away data folder, not the user's.
-    const child = spawn(caliper, ['serve', '--port', '0', '--web-root', join(root, 'web', 'dist'), '--quiet', '--data', dataDir],
-      { env: { ...process.env, CALIPER_MODELS_DIR: modelsDir }, stdio: ['ignore', 'pipe', 'pipe'] });
-    let out = '', err = '';
-    const timer = setTimeout(() => reject(new Error(`server did not start: ${out}${err}`)), 120000);
-    child.stdout.on('data', (d) => {
-      out += d;
-      const m = /https?:\/\/([\d.]+):(\d+)\//.exec(out);
-      if (m) {
-        clearTimeout(timer);
-        resolvePromise({ child, base: `http://${m[1]}:${m[2]}` });
-      }
-    });
-    child.stderr.on('data', (d) => { err += d; });
-    child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`server exited (${code}): ${err}`)); });
-  });
-}
 
 // Seeded random numbers (mulberry32): the same scripted person every run.
 function rng(seed) {
@@ -159,14 +100,8 @@ function hipSides(positions, faces, h) {
 
 let server = null;
 let base = givenBase;
-if (!base) ({ child: server, base } = await startServer());
-const browser = await chromium.launch({
-  executablePath: chromiumPath,
-  headless: true,
-  args: ['--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking',
-         '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-         '--autoplay-policy=no-user-gesture-required'],
-});
+if (!base) ({ child: server, base } = await startServer(modelsDir, dataDir));
+const browser = await launchBrowser(chromium, ['--autoplay-policy=no-user-gesture-required']);
 
 try {
   // --- The server side must be there.
@@ -531,13 +466,11 @@ try {
   check(outside.length === 0, 'nothing is fetched from outside the server', outside.join(', '));
   check(pageErrors.length === 0, 'no errors in the pages', pageErrors.join('\n'));
 } catch (e) {
-  failures += 1;
-  console.log(`FAIL ${e.stack ?? e}`);
+  fail(e.stack ?? e);
 } finally {
   await browser.close();
   server?.kill('SIGTERM');
   rmSync(dataDir, { recursive: true, force: true });
 }
 
-console.log(failures ? `${failures} check(s) failed` : 'all checks passed');
-process.exit(failures ? 1 : 0);
+finish();

@@ -9,90 +9,21 @@
 //   node tests/e2e/desktop.spec.mjs --caliper build/bin/caliper [--screenshots DIR] [--keep]
 //
 // Exit: 0 pass, 1 fail, 77 skipped (no browser, no playwright-core or no body model).
-import { spawn, spawnSync } from 'node:child_process';
-import { existsSync, mkdtempSync, readFileSync, readdirSync, rmSync, writeFileSync, mkdirSync } from 'node:fs';
+import { spawnSync } from 'node:child_process';
+import { mkdtempSync, readFileSync, rmSync, mkdirSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { dirname, join, resolve } from 'node:path';
-import { createRequire } from 'node:module';
-import { fileURLToPath } from 'node:url';
+import { join } from 'node:path';
+import {
+  root, caliper, screenshots, hasFlag, loadChromium, prepare, check, fail, finish, startServer, launchBrowser,
+} from './harness.mjs';
 
-const root = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const args = process.argv.slice(2);
-const opt = (name, fallback) => {
-  const i = args.indexOf(name);
-  return i >= 0 && i + 1 < args.length ? args[i + 1] : fallback;
-};
-const caliper = resolve(opt('--caliper', join(root, 'build', 'bin', 'caliper')));
-const screenshots = opt('--screenshots', null);
-const chromiumPath = process.env.CALIPER_CHROMIUM ?? '/usr/bin/chromium';
-
-function skip(why) {
-  console.log(`SKIP: ${why}`);
-  process.exit(77);
-}
-
-let chromium;
-try {
-  ({ chromium } = createRequire(join(root, 'web', 'package.json'))('playwright-core'));
-} catch {
-  skip('playwright-core is not installed in web/ (run scripts/install-deps.sh)');
-}
-if (!existsSync(chromiumPath)) skip(`no Chromium at ${chromiumPath}`);
-if (!existsSync(caliper)) {
-  console.error(`FAIL: no caliper binary at ${caliper}`);
-  process.exit(1);
-}
-const modelsDir = process.env.CALIPER_MODELS_DIR ?? join(root, 'models');
-if (!existsSync(modelsDir) || !readdirSync(modelsDir).some((f) => /^mannequin-.*\.npz$/.test(f)))
-  skip(`no mannequin model in ${modelsDir} (commit models/ or set CALIPER_MODELS_DIR)`);
-
-// The page under test is the current web/src, built into web/dist.
-const build = spawnSync(process.execPath, [join(root, 'web', 'build.mjs')], { encoding: 'utf8' });
-if (build.status !== 0) {
-  console.error(`FAIL: web/build.mjs: ${build.stderr}`);
-  process.exit(1);
-}
-
-// ---------------------------------------------------------------------------------------------
-
-let failures = 0;
-function check(ok, what, detail = '') {
-  if (ok) console.log(`ok   ${what}`);
-  else {
-    failures += 1;
-    console.log(`FAIL ${what}${detail ? `: ${detail}` : ''}`);
-  }
-}
-
-function startServer() {
-  return new Promise((resolvePromise, reject) => {
-    // Capture sessions go to a scratch folder, not the user's ~/.local/share/caliper.
-    const dataDir = mkdtempSync(join(tmpdir(), 'caliper-desktop-e2e-'));
-    const child = spawn(caliper, ['serve', '--port', '0', '--web-root', join(root, 'web', 'dist'), '--quiet', '--data', dataDir],
-      { env: { ...process.env, CALIPER_MODELS_DIR: modelsDir }, stdio: ['ignore', 'pipe', 'pipe'] });
-    let out = '', err = '';
-    const timer = setTimeout(() => reject(new Error(`server did not start: ${out}${err}`)), 120000);
-    child.stdout.on('data', (d) => {
-      out += d;
-      const m = /http:\/\/([\d.]+):(\d+)\//.exec(out);
-      if (m) {
-        clearTimeout(timer);
-        resolvePromise({ child, base: `http://${m[1]}:${m[2]}` });
-      }
-    });
-    child.stderr.on('data', (d) => { err += d; });
-    child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`server exited (${code}): ${err}`)); });
-  });
-}
+const chromium = loadChromium();
+const modelsDir = prepare();
 
 const tmp = mkdtempSync(join(tmpdir(), 'caliper-e2e-'));
-const { child: server, base } = await startServer();
-const browser = await chromium.launch({
-  executablePath: chromiumPath,
-  headless: true,
-  args: ['--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking',
-         '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const dataDir = mkdtempSync(join(tmpdir(), 'caliper-desktop-e2e-data-'));
+const { child: server, base } = await startServer(modelsDir, dataDir);
+const browser = await launchBrowser(chromium);
 
 try {
   const context = await browser.newContext({ viewport: { width: 1440, height: 900 }, acceptDownloads: true });
@@ -271,13 +202,12 @@ try {
   check(outside.length === 0, 'nothing is fetched from outside the server (offline)', outside.join(', '));
   check(pageErrors.length === 0, 'no errors in the page', pageErrors.join('\n'));
 } catch (e) {
-  failures += 1;
-  console.log(`FAIL ${e.stack ?? e}`);
+  fail(e.stack ?? e);
 } finally {
   await browser.close();
   server.kill('SIGTERM');
-  if (!args.includes('--keep')) rmSync(tmp, { recursive: true, force: true });
+  rmSync(dataDir, { recursive: true, force: true });
+  if (!hasFlag('--keep')) rmSync(tmp, { recursive: true, force: true });
 }
 
-console.log(failures ? `${failures} check(s) failed` : 'all checks passed');
-process.exit(failures ? 1 : 0);
+finish();

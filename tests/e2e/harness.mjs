@@ -1,0 +1,105 @@
+// What the browser tests share: options, the skip/fail protocol ctest reads (exit 77 = skipped),
+// the prerequisites (Chromium, playwright-core, a caliper binary, a body model, the built page),
+// a `caliper serve` on a free port with a scratch data folder, and headless Chromium launched
+// the way TOOLBOX.md says works on these machines.
+import { spawn, spawnSync } from 'node:child_process';
+import { existsSync, readdirSync } from 'node:fs';
+import { dirname, join, resolve } from 'node:path';
+import { createRequire } from 'node:module';
+import { fileURLToPath } from 'node:url';
+
+export const root = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
+export const webRequire = createRequire(join(root, 'web', 'package.json'));
+export const chromiumPath = process.env.CALIPER_CHROMIUM ?? '/usr/bin/chromium';
+
+const args = process.argv.slice(2);
+export const hasFlag = (name) => args.includes(name);
+export function option(name, fallback) {
+  const i = args.indexOf(name);
+  return i >= 0 && i + 1 < args.length ? args[i + 1] : fallback;
+}
+export const caliper = resolve(option('--caliper', join(root, 'build', 'bin', 'caliper')));
+export const screenshots = option('--screenshots', null);
+
+export function skip(why) {
+  console.log(`SKIP: ${why}`);
+  process.exit(77);
+}
+
+// playwright-core's chromium, or a skip when web/node_modules lacks it.
+export function loadChromium() {
+  try {
+    return webRequire('playwright-core').chromium;
+  } catch {
+    return skip('playwright-core is not installed in web/ (run scripts/install-deps.sh)');
+  }
+}
+
+// Checks the browser, the binary and a body model, and builds the current web/src into
+// web/dist (the pages under test). Returns the models folder the server should use.
+export function prepare() {
+  if (!existsSync(chromiumPath)) skip(`no Chromium at ${chromiumPath}`);
+  if (!existsSync(caliper)) {
+    console.error(`FAIL: no caliper binary at ${caliper}`);
+    process.exit(1);
+  }
+  const modelsDir = process.env.CALIPER_MODELS_DIR ?? join(root, 'models');
+  if (!existsSync(modelsDir) || !readdirSync(modelsDir).some((f) => /^mannequin-.*\.npz$/.test(f)))
+    skip(`no mannequin model in ${modelsDir} (commit models/ or set CALIPER_MODELS_DIR)`);
+  const build = spawnSync(process.execPath, [join(root, 'web', 'build.mjs')], { encoding: 'utf8' });
+  if (build.status !== 0) {
+    console.error(`FAIL: web/build.mjs: ${build.stderr}`);
+    process.exit(1);
+  }
+  return modelsDir;
+}
+
+let failures = 0;
+// Prints ok/FAIL for one check and counts failures; returns ok so a test can stop on it.
+export function check(ok, what, detail = '') {
+  if (ok) console.log(`ok   ${what}${detail ? ` (${detail})` : ''}`);
+  else {
+    failures += 1;
+    console.log(`FAIL ${what}${detail ? `: ${detail}` : ''}`);
+  }
+  return ok;
+}
+export function fail(message) {
+  failures += 1;
+  console.log(`FAIL ${message}`);
+}
+export function finish() {
+  console.log(failures ? `${failures} check(s) failed` : 'all checks passed');
+  process.exit(failures ? 1 : 0);
+}
+
+// `caliper serve` on a free port; capture sessions go to `dataDir`, never the user's own folder.
+export function startServer(modelsDir, dataDir) {
+  return new Promise((resolvePromise, reject) => {
+    const child = spawn(caliper, ['serve', '--port', '0', '--web-root', join(root, 'web', 'dist'), '--quiet', '--data', dataDir],
+      { env: { ...process.env, CALIPER_MODELS_DIR: modelsDir }, stdio: ['ignore', 'pipe', 'pipe'] });
+    let out = '', err = '';
+    const timer = setTimeout(() => reject(new Error(`server did not start: ${out}${err}`)), 120000);
+    child.stdout.on('data', (d) => {
+      out += d;
+      const m = /https?:\/\/([\d.]+):(\d+)\//.exec(out);
+      if (m) {
+        clearTimeout(timer);
+        resolvePromise({ child, base: `http://${m[1]}:${m[2]}` });
+      }
+    });
+    child.stderr.on('data', (d) => { err += d; });
+    child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`server exited (${code}): ${err}`)); });
+  });
+}
+
+// Headless Chromium with software WebGL (SwiftShader) and no background network traffic.
+export function launchBrowser(chromium, extraArgs = []) {
+  return chromium.launch({
+    executablePath: chromiumPath,
+    headless: true,
+    args: ['--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking',
+           '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+           ...extraArgs],
+  });
+}
