@@ -668,6 +668,18 @@ struct Api::Impl {
   }
 };
 
+ApiResponse error_response_for_library_error(const Error& e, const std::string& format_kind,
+                                             const std::string& io_kind) {
+  switch (e.kind()) {
+    case ErrorKind::InvalidArgument: return error_response(400, e.what(), e.field(), "invalid_argument");
+    case ErrorKind::OutOfRange: return error_response(400, e.what(), e.field(), "out_of_range");
+    case ErrorKind::Unsupported: return error_response(422, e.what(), e.field(), "unsupported");
+    case ErrorKind::Format: return error_response(500, e.what(), e.field(), format_kind);
+    case ErrorKind::Io: return error_response(500, e.what(), e.field(), io_kind);
+  }
+  return error_response(500, e.what(), e.field(), "internal");
+}
+
 Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->options = std::move(options);
   impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file});
@@ -680,16 +692,7 @@ ApiResponse Api::handle(const ApiRequest& request) const {
   } catch (const RequestError& e) {
     return error_response(e.status, e.message, e.field, e.kind);
   } catch (const Error& e) {
-    // Bad values are the client's (400); a valid request the model cannot serve is 422; a model
-    // file that cannot be read or parsed is the server's problem (500).
-    switch (e.kind()) {
-      case ErrorKind::InvalidArgument: return error_response(400, e.what(), e.field(), "invalid_argument");
-      case ErrorKind::OutOfRange: return error_response(400, e.what(), e.field(), "out_of_range");
-      case ErrorKind::Unsupported: return error_response(422, e.what(), e.field(), "unsupported");
-      case ErrorKind::Format: return error_response(500, e.what(), e.field(), "model_format");
-      case ErrorKind::Io: return error_response(500, e.what(), e.field(), "model_io");
-    }
-    return error_response(500, e.what(), e.field(), "internal");
+    return error_response_for_library_error(e, "model_format", "model_io");
   } catch (const std::exception& e) {
     return error_response(500, std::string("internal error: ") + e.what(), {}, "internal");
   }

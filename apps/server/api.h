@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "caliper/errors.h"
+
 namespace caliper::server {
 
 struct ApiRequest {
@@ -31,6 +33,12 @@ struct ApiResponse {
 // The accepted range is filled in from the measurement catalogue when `field` is a measurement.
 ApiResponse error_response(int status, const std::string& message, const std::string& field = {},
                            const std::string& kind = "bad_request");
+
+// The response for a library error (caliper::Error): bad values are the client's (400), a valid
+// request the server cannot serve is 422, unreadable files are the server's (500, with the
+// given kinds, e.g. "model_format" / "model_io" or "database_format" / "database_io").
+ApiResponse error_response_for_library_error(const Error& error, const std::string& format_kind,
+                                             const std::string& io_kind);
 
 struct ApiOptions {
   std::string models_dir;                   // empty: the library's models folder

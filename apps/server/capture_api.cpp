@@ -405,14 +405,7 @@ ApiResponse CaptureApi::handle(const ApiRequest& request) const {
   } catch (const Refusal& r) {
     return error_response(r.status, r.message, r.field, r.kind);
   } catch (const Error& e) {
-    switch (e.kind()) {
-      case ErrorKind::InvalidArgument: return error_response(400, e.what(), e.field(), "invalid_argument");
-      case ErrorKind::OutOfRange: return error_response(400, e.what(), e.field(), "out_of_range");
-      case ErrorKind::Unsupported: return error_response(422, e.what(), e.field(), "unsupported");
-      case ErrorKind::Format: return error_response(500, e.what(), e.field(), "database_format");
-      case ErrorKind::Io: return error_response(500, e.what(), e.field(), "database_io");
-    }
-    return error_response(500, e.what(), e.field(), "internal");
+    return error_response_for_library_error(e, "database_format", "database_io");
   } catch (const std::exception& e) {
     return error_response(500, std::string("internal error: ") + e.what(), {}, "internal");
   }

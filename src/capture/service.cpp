@@ -165,34 +165,21 @@ std::optional<CaptureService::FeedResult> CaptureService::feed(const std::string
   return out;
 }
 
-std::optional<Session> CaptureService::undo(const std::string& id, bool* changed) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  Session* s = live(id);
-  if (!s) return std::nullopt;
-  const bool did = s->protocol.undo();
-  if (changed) *changed = did;
-  if (did) {
-    try {
-      store_->undo_point(id, summary_of(s->protocol));
-    } catch (...) {
-      sessions_.erase(id);
-      throw;
-    }
-  }
-  return *s;
-}
+std::optional<Session> CaptureService::undo(const std::string& id, bool* changed) { return step(id, changed, false); }
+std::optional<Session> CaptureService::redo(const std::string& id, bool* changed) { return step(id, changed, true); }
 
-std::optional<Session> CaptureService::redo(const std::string& id, bool* changed) {
+std::optional<Session> CaptureService::step(const std::string& id, bool* changed, bool forward) {
   std::lock_guard<std::mutex> lock(mutex_);
   Session* s = live(id);
   if (!s) return std::nullopt;
-  const bool did = s->protocol.redo();
+  const bool did = forward ? s->protocol.redo() : s->protocol.undo();
   if (changed) *changed = did;
   if (did) {
     try {
-      store_->redo_point(id, summary_of(s->protocol));
+      if (forward) store_->redo_point(id, summary_of(s->protocol));
+      else store_->undo_point(id, summary_of(s->protocol));
     } catch (...) {
-      sessions_.erase(id);
+      sessions_.erase(id);  // memory and store disagree now: reload from the store next time
       throw;
     }
   }

@@ -74,6 +74,7 @@ class CaptureService {
   const std::string& database_path() const;
 
  private:
+  std::optional<Session> step(const std::string& id, bool* changed, bool forward);  // undo / redo
   Session* live(const std::string& id);  // cached or loaded from the store; nullptr if absent
   CaptureServiceOptions options_;
   std::unique_ptr<SessionStore> store_;
