@@ -17,18 +17,23 @@
 //    + radiale→stylion + hand length overshoots span/2 by ~9–10 cm. Span, biacromial breadth and
 //    hand length are exact; the upper arm and forearm are scaled by one common factor so the
 //    fingertips land at ±span/2 (the paper's real→virtual map, §3.3, handles arm length).
-//  * The iliac crest is a level at the body's side only: the rings between the hip and the
-//    under-bust rings are tilted at the sides (re-sampling the same surface) so the crest may lie
-//    above or below the navel. Buttock (gluteal furrow) height below the crotch is clamped just
-//    above it; axilla below chest height is clamped above it.
+//  * Some levels are points on one side of the body, not whole rings, so ANSUR's orderings
+//    between them can differ from the rings' order: the iliac crest (side) may lie above or below
+//    the navel (front), the axilla (side) up to 1.7 cm below the bust point (front), and the
+//    trochanterion (side) and gluteal furrow (back) below the crotch. Rings are tilted at the side
+//    or back to reach them; where horizontal sections are measured across tilted rings, those rings
+//    re-sample the same surface so the sections are unchanged.
 //  * Where a circumference is larger than its breadth and depth allow with a plausible profile
-//    (superellipse exponent ≤ 4 for the chest, 5 elsewhere), breadth and circumference are kept and the depth grows. ANSUR
+//    (superellipse exponent ≤ 4 for the chest, 5 for the waist), breadth and circumference are
+//    kept and the depth grows. ANSUR
 //    chest circumference is large for its chest breadth × depth (C / ellipse perimeter 1.24 on
 //    average for men; above the bounding rectangle's perimeter for 435 of 4,082 men), so
 //    chest_depth is NOT a fidelity target: over all 4,552 dev subjects it grows by a median of
-//    4.4 cm (max 11.7 cm). Head length (10 subjects) and buttock depth (1) grow likewise.
-//  * Thigh circumference is imposed on a leg ring 3 cm (scaled by stature) below the crotch: a
-//    horizontal section at ANSUR's level, the gluteal furrow, would cut the torso.
+//    4.4 cm (max 11.7 cm). The head and hip rings may be boxier (exponent up to 10 and 6) so
+//    every subject's head length and buttock depth are kept.
+//  * Thigh circumference is imposed on a leg ring 3 cm (scaled by stature) below the crotch, or
+//    lower under a seat that drops below it: a horizontal section at ANSUR's level, the gluteal
+//    furrow, would cut the torso.
 //  * Biceps and forearm girths use 0.9 × ANSUR's flexed values as relaxed girths (not targets).
 #include "caliper/mannequin/generator.h"
 #include "caliper/measure/geometry.h"
@@ -66,10 +71,11 @@ constexpr int kThumbN = 2 * (kThumbQ1 - kThumbQ0) + 2 * kThumbRows;
 
 // Torso key levels and ring intervals between consecutive keys.
 enum TorsoKey {
-  kBottom, kLow, kHip, kWaist, kIlio, kUnderBust, kChest, kAxilla, kHoleTop, kShoulder1, kShoulder2,
+  kBottom, kLow, kHip, kWaist, kIlio, kUnderBust, kChest, kArmpit, kAxilla, kHoleTop, kShoulder1, kShoulder2,
   kNeck, kCervicale, kChin, kMouth, kNose, kGlabella, kTorsoKeyCount
 };
-constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 4, kHoleRows, 2, 2, 2, 1, 2, 2, 2, 3};
+// kArmpit: the axilla landmark's ring, just under the armpit hole whose bottom is kAxilla.
+constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 2, 2, 2, 3};
 constexpr int kDomeRings = 7;  // rings above the glabella ring before the pole
 
 // Leg stations (below the theta ring r0) and intervals.
@@ -375,12 +381,17 @@ Vec3 mirror(const Vec3& p) { return {-p.x(), p.y(), p.z()}; }
 struct BodyPlan {  // everything the builder needs, derived from the dimensions
   std::vector<TorsoRing> torso;  // per ring
   std::vector<double> torso_tilt_side, torso_tilt_back;  // per ring: y offsets at the side / back (tilted low ring)
+  std::vector<double> torso_tilt_flank;  // per ring: y offset at the side, none up to the bust point (armpit)
   // Rings whose vertices take their shape from the torso profile at their own (tilted) height,
   // so tilting them re-samples the same surface instead of bending it.
   std::vector<bool> torso_resample;
   std::vector<double> torso_pitch;  // per ring: y offset at the back, half of it at the sides (head rings)
   std::function<TorsoRing(double)> torso_profile;  // ring parameters at any height
+  std::function<double(double)> hip_outline;       // the side's half-breadth from thigh to hip
   std::vector<LegRing> leg;      // per ring index ≥ 1 (index 0 unused)
+  // Where ANSUR puts the trochanterion or the gluteal furrow at or below the crotch, the seat's
+  // lowest torso rings and the legs' first ring drop at the side / back by these (≤ 0) amounts.
+  double seat_drop_side = 0, seat_drop_back = 0;
   std::vector<ArmRing> arm;      // per ring index ≥ 1
   double crotch_y = 0, crotch_z = 0;  // the crotch point, under the thighs' centres
   double dactylion_x = 0, arm_y = 0, arm_z = 0;
@@ -400,16 +411,26 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   const double y_cr = d.crh;
   const double y_bh = std::max(d.bh, y_cr + 0.010);
   const double y_tr = std::max(d.troch, y_cr + 0.010);
+  // The part of each level the clamps above take away: the seat drops there instead (see below).
+  P.seat_drop_side = d.troch - y_tr;
+  P.seat_drop_back = d.bh - y_bh;
   const double y_bot = y_cr + std::max(0.004, 0.45 * (std::min(y_tr, y_bh) - y_cr));
   const double y_low_ref = std::min(y_tr, y_bh);
-  const double y_hip = std::max(y_tr, y_bh) + 0.03 * sc;  // buttock circumference / hip breadth level
-  const double y_w = std::max(d.wh, y_hip + 0.025);
+  // Buttock circumference / hip breadth level: 3 cm above the higher of the two, less when the
+  // navel is close above (ANSUR: as little as 4.6 cm), so the waist ring can sit at the navel and
+  // the sides have room to narrow from the hips to the waist.
+  const double y_seat = std::max(y_tr, y_bh);
+  const double y_hip = y_seat + std::clamp(0.25 * (d.wh - y_seat), 0.005, 0.03 * sc);
+  const double y_w = std::max(d.wh, y_hip + 0.012);
   // The iliac crest may lie above or below the navel (ANSUR: −5 to +8 cm). It is a level at the
   // side of the body only: the iliocristale ring's front sits just above the waist ring and its
   // sides are tilted to the crest (see the tilt below), so the crest can pass the navel.
   const double y_ic_side = std::max(d.ilio, y_hip + 0.03);
   const double y_ch = std::max(d.chh, std::max(y_w, y_ic_side) + 0.08);
-  const double y_ax = std::max(d.axl, y_ch + 0.012);
+  // The axilla landmark sits on a ring just under the armpit hole. ANSUR's axilla can lie below
+  // the bust point (up to 1.7 cm); then the chest's sides are tilted down to it (see below).
+  const double y_ap = std::max(d.axl, y_ch + 0.012);
+  const double y_ax = y_ap + 0.006 * sc;  // the armpit hole's bottom
   const double y_acr = std::max(d.acr, y_ax + 0.05);
   const double y_chin = d.S - 0.232 * hs;
   const double y_cv = std::max(d.cerv, y_acr + 0.015);
@@ -436,12 +457,15 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.y = y_hip;
     r.cz = 0.0;
     r.glute = (0.010 + 0.010 * fem) * d.bd / 0.24;
-    fit_torso_ring(r, d.hb, d.bd, hip_front, d.bc, 1.7, 5.0);
+    fit_torso_ring(r, d.hb, d.bd, hip_front, d.bc, 1.7, 6.0);
   }
   {
     TorsoRing& r = K[kWaist];
     r.y = y_w;
     r.cz = -0.005;
+    // The buttocks round off over ~10 cm above the hip ring: a navel closer than that keeps part
+    // of them, or they would end in a ridge.
+    r.glute = K[kHip].glute * (1 - smoothstep(0.0, 0.10 * sc, y_w - y_hip));
     fit_torso_ring(r, d.wb, d.wd, waist_front, d.wc, 1.7, 5.0);
   }
   {
@@ -473,6 +497,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.df = std::lerp(K[kWaist].df, K[kChest].df, female ? 0.5 : 0.7);
     r.db = std::lerp(K[kWaist].db, K[kChest].db, 0.6);
     r.p = 0.5 * (K[kWaist].p + K[kChest].p);
+    r.glute = 0;
     K[kUnderBust] = r;
     r = K[kChest];
     r.y = y_ax;
@@ -482,6 +507,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.db = K[kChest].db * 0.98;
     r.p = std::max(2.6, K[kChest].p - 0.2);  // no crease at the chest ring's corners
     K[kAxilla] = r;
+    K[kArmpit].y = y_ap;  // a level only: its ring takes the profile's shape
     r.y = y_acr;
     r.a = a_sh;
     r.bust = 0;
@@ -536,7 +562,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     K[kNose] = r;
     r = TorsoRing{};
     r.y = y_g; r.cz = head_cz; r.nose = 0.0;
-    fit_torso_ring(r, d.headb, d.headl, 0.48, d.headc, 1.8, 4.0);
+    fit_torso_ring(r, d.headb, d.headl, 0.48, d.headc, 1.8, 10.0);
     K[kGlabella] = r;
   }
 
@@ -545,7 +571,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   for (int key = 0; key < kTorsoKeyCount; ++key) {
     // The iliocristale ring is a level, not a shape: a duplicate knot there would flatten the
     // profile into a visible band.
-    if (key == kIlio) continue;
+    if (key == kIlio || key == kArmpit) continue;
     const TorsoRing& r = K[static_cast<size_t>(key)];
     ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db); kcz.push_back(r.cz);
     kp.push_back(r.p); kbust.push_back(r.bust); kglute.push_back(r.glute); knose.push_back(r.nose); kchin.push_back(r.chin);
@@ -560,6 +586,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   P.torso.resize(static_cast<size_t>(nt));
   P.torso_tilt_side.assign(static_cast<size_t>(nt), 0.0);
   P.torso_tilt_back.assign(static_cast<size_t>(nt), 0.0);
+  P.torso_tilt_flank.assign(static_cast<size_t>(nt), 0.0);
   P.torso_resample.assign(static_cast<size_t>(nt), false);
   P.torso_pitch.assign(static_cast<size_t>(nt), 0.0);
   const double bust_t = K[kChest].bust_t, bust_w = K[kChest].bust_w;
@@ -578,7 +605,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       r.y = y; r.a = ca(y); r.df = cdf(y); r.db = cdb(y); r.cz = ccz(y); r.p = cp(y);
       r.bust = cbust(y); r.bust_t = K[kChest].bust_t; r.bust_w = K[kChest].bust_w;
       r.glute = cglute(y); r.nose = cnose(y); r.chin = cchin(y);
-      if (i == 0 && key != kIlio) { r = K[key]; if (key > kChest && key < kNeck) r.bust = cbust(y); }
+      if (i == 0 && key != kIlio && key != kArmpit) { r = K[key]; if (key > kChest && key < kNeck) r.bust = cbust(y); }
       P.torso[static_cast<size_t>(k0 + i)] = r;
     }
   }
@@ -594,6 +621,13 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       P.torso_tilt_side[static_cast<size_t>(k)] = (y_tr - y_low_ref) * fade;
       P.torso_tilt_back[static_cast<size_t>(k)] = (y_bh - y_low_ref) * fade;
     }
+    // A seat lower than the clamps allow: the rings from the bottom up to the low ring (whose side
+    // carries the trochanterion and whose back the gluteal furrow) drop together, keeping their
+    // spacing, and so do the legs' first ring and the crotch bridge's back (in build()).
+    for (int k = 0; k <= kl; ++k) {
+      P.torso_tilt_side[static_cast<size_t>(k)] += P.seat_drop_side;
+      P.torso_tilt_back[static_cast<size_t>(k)] += P.seat_drop_back;
+    }
   }
   // The iliac crest: the rings' sides rise evenly from the hip ring through the crest to the
   // under-bust ring while their fronts keep their levels (the waist ring's front is the navel).
@@ -605,6 +639,18 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       const double side = k <= ki ? std::lerp(y_hip, y_ic_side, static_cast<double>(k - kh) / (ki - kh))
                                   : std::lerp(y_ic_side, y_us, static_cast<double>(k - ki) / (ku - ki));
       P.torso_tilt_side[static_cast<size_t>(k)] = side - P.torso[static_cast<size_t>(k)].y;
+      P.torso_resample[static_cast<size_t>(k)] = true;
+    }
+  }
+  // An axilla below the clamp: the rings from the under-bust ring up to the armpit ring are
+  // compressed at the sides toward the under-bust level (bust points and midlines stay), so the
+  // armpit ring's side reaches the axilla. They re-sample the same profile, so the chest's
+  // horizontal section at the bust point keeps its breadth and girth.
+  if (d.axl < y_ap) {
+    const int ku = torso_key_ring(kUnderBust), kap = torso_key_ring(kArmpit);
+    for (int k = ku + 1; k <= kap; ++k) {
+      const double y = P.torso[static_cast<size_t>(k)].y;
+      P.torso_tilt_flank[static_cast<size_t>(k)] = (d.axl - y_ap) * (y - y_us) / (y_ap - y_us);
       P.torso_resample[static_cast<size_t>(k)] = true;
     }
   }
@@ -640,9 +686,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   {
     std::array<LegRing, kLegKeyCount> L{};
     const double y_kn = d.knee, y_ml = d.mall;
-    const double y_th = y_cr - 0.03 * sc;
-    L[kThigh].y = y_th;
     L[kLegTop].y = y_cr - 0.008 * sc;
+    // The thigh ring stays below the legs' first ring where that drops under a low seat.
+    const double y_th = std::min(y_cr - 0.03 * sc, L[kLegTop].y + std::min(P.seat_drop_side, P.seat_drop_back) - 0.012 * sc);
+    L[kThigh].y = y_th;
     L[kLowerThigh].y = y_kn + 0.11 * sc;
     L[kKnee].y = y_kn;
     L[kCalf].y = y_kn - 0.36 * (y_kn - y_ml);
@@ -661,16 +708,6 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       r.xc = std::max(r.am + 0.004, half_hip - r.al * 1.02);
       // Centred under the middle of the hip section (buttocks protrude behind, not the thighs).
       r.zc = K[kHip].cz + (hip_front - 0.5) * d.bd;
-      // Just below the crotch the thigh still carries the hip's flesh: a fuller ring whose outer
-      // side follows the hip line, so hips flow into thighs.
-      LegRing& t = L[kLegTop];
-      const double y_keep = t.y;
-      t = r;
-      t.y = y_keep;
-      const double outer = std::max(r.xc + r.al, 0.5 * (r.xc + r.al + K[kHip].a));
-      t.al = outer - t.xc;
-      t.bb *= 1.03;
-      t.am = std::min(t.am * 1.05, t.xc - 0.003);
     }
     auto make = [&](LegRing& r, double c, double xc, double zc, double depth_ratio, double calf) {
       r.al = r.am = 1; r.bf = depth_ratio; r.bb = depth_ratio; r.p = 2.2; r.calf = calf;
@@ -679,6 +716,31 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       r.zc = zc;
     };
     make(L[kLowerThigh], d.lthighc, 0.55 * L[kThigh].xc + 0.04 * sc, 0.0, 1.0, 0);
+    // The body's side outline from the thigh ring up to the hip ring: one cubic leaving the thigh
+    // at the slope the leg has below it and arriving flat at the hip's maximum breadth, so hips
+    // flow into thighs with no shoulder at the crotch.
+    {
+      const LegRing &th = L[kThigh], &lt = L[kLowerThigh];
+      const double x0 = th.xc + th.al, x1 = K[kHip].a, h = y_hip - th.y;
+      const double secant = (x1 - x0) / h;
+      const double m0 = secant <= 0 ? 0.0 : std::clamp((x0 - (lt.xc + lt.al)) / (th.y - lt.y), 0.0, 3 * secant);
+      P.hip_outline = [=](double y) {
+        const double u = std::clamp((y - th.y) / h, 0.0, 1.0), u2 = u * u, u3 = u2 * u;
+        return (2 * u3 - 3 * u2 + 1) * x0 + (u3 - 2 * u2 + u) * h * m0 + (-2 * u3 + 3 * u2) * x1;
+      };
+    }
+    {
+      // Just below the crotch the thigh still carries the hip's flesh: a fuller ring whose outer
+      // side follows the hip outline.
+      const LegRing& r = L[kThigh];
+      LegRing& t = L[kLegTop];
+      const double y_keep = t.y;
+      t = r;
+      t.y = y_keep;
+      t.al = std::max(r.al, P.hip_outline(t.y) - t.xc);
+      t.bb *= 1.03;
+      t.am = std::min(t.am * 1.05, t.xc - 0.003);
+    }
     make(L[kKnee], 0.97 * d.lthighc * 0.93, 0.5 * L[kThigh].xc + 0.04 * sc, 0.008, 0.95, 0);
     make(L[kCalf], d.calfc, 0.45 * L[kThigh].xc + 0.042 * sc, -0.006, 1.0, 0.25);
     make(L[kAnkle], d.anklec, 0.42 * L[kThigh].xc + 0.04 * sc, -0.012, 1.05, 0);
@@ -705,7 +767,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     {
       const LegRing& t = L[kLegTop];
       TorsoRing& b = P.torso[0];
-      b.a = t.xc + t.al;
+      b.a = std::max(t.xc + t.al, P.hip_outline(b.y));
       b.glute = 0;
       b.p = 2.4;
       // Depths such that, above the thigh's centre line (x = xc), the ring reaches the thigh's
@@ -717,23 +779,30 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       const int kh = torso_key_ring(kHip);
       const TorsoRing& h = P.torso[static_cast<size_t>(kh)];
       const double reach_front = t.zc + t.bf - b.cz, reach_back = b.cz - (t.zc - t.bb);
-      b.df = std::max(0.02, std::min(reach_front / cf, std::max(h.df, reach_front)));
-      b.db = std::max(0.02, std::min(reach_back / cf, std::max(h.db, reach_back)));
+      // In front, one bump over each thigh (the bust bumps' shape) rather than a deeper ring: the
+      // lower belly then meets the thighs over their fronts and dips between them, instead of
+      // overhanging both in a horizontal crease.
+      b.df = std::max(0.02, std::min(0.98 * reach_front, std::max(h.df, reach_front)));
+      b.bust_t = std::asin(sn);
+      b.bust_w = 0.35;
+      b.bust = std::max(0.0, reach_front - b.df * cf);
+      b.db = std::max(0.02, std::min(0.98 * reach_back, std::max(h.db, reach_back)));
       // The buttock cheeks end over the backs of the thighs (the gluteal fold), never in front
       // of them: a thigh bulging out under the buttock reads as a band.
       {
         const double tb = kPi - std::asin(std::pow(std::clamp(t.xc / b.a, 0.0, 0.95), b.p / 2));
         const double gap = (b.cz - b.db * cf) - (t.zc - t.bb) + 0.003;
         const double bump = std::exp(-std::pow((tb - (kPi - 0.62)) / 0.42, 2));
-        b.glute = std::clamp(gap / bump, 0.0, h.glute);
+        b.glute = std::max(0.0, gap / bump);
       }
       // Rings between the bottom and the hip ring blend with zero slope at both ends (thighs below,
       // the hip above), so the profile has no kink at either ring).
       for (int k = 1; k < kh; ++k) {
         TorsoRing& r = P.torso[static_cast<size_t>(k)];
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
-        r.a = std::lerp(b.a, h.a, e); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e);
+        r.a = P.hip_outline(r.y + P.torso_tilt_side[static_cast<size_t>(k)]); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e);
         r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e);
+        r.bust = std::lerp(b.bust, 0.0, e); r.bust_t = b.bust_t; r.bust_w = b.bust_w;
       }
       P.crotch_z = std::clamp(t.zc, b.cz - 0.5 * b.db, b.cz + 0.5 * b.df);
     }
@@ -879,6 +948,7 @@ void build(const BodyPlan& P, Builder& B) {
       const double t = 2 * kPi * jj / kTorsoN;
       const double s = std::sin(t), c = std::cos(t);
       const double y = r.y + P.torso_tilt_side[static_cast<size_t>(k)] * s * s +
+                       P.torso_tilt_flank[static_cast<size_t>(k)] * smoothstep(0.45, 0.95, s * s) +
                        P.torso_tilt_back[static_cast<size_t>(k)] * std::max(0.0, -c) * std::max(0.0, -c) +
                        P.torso_pitch[static_cast<size_t>(k)] * 0.5 * (1 - c);
       const auto q = P.torso_resample[static_cast<size_t>(k)] ? torso_xz(P.torso_profile(y), t) : torso_xz(r, t);
@@ -905,12 +975,13 @@ void build(const BodyPlan& P, Builder& B) {
   // Crotch bridge: along x = 0 from the bottom ring's back centre to its front centre, a
   // half-ellipse dipping to the crotch, so the belly and the buttocks curve under into the
   // crotch instead of ending in a flat shelf.
-  const double y_bot = P.torso[0].y;
+  const double y_front = B.v[static_cast<size_t>(B.torso[0][0])].y(), y_back = B.v[static_cast<size_t>(B.torso[0][kTorsoN / 2])].y();
   const double z_front = torso_xz(P.torso[0], 0).y(), z_back = torso_xz(P.torso[0], kPi).y();
   B.bridge.clear();
   for (int i = 0; i < kBridge; ++i) {
     const double u = (i + 1.0) / (kBridge + 1.0), c = -std::cos(kPi * u);
-    const double y = i == kBridge / 2 ? P.crotch_y : P.crotch_y + (y_bot - P.crotch_y) * (1 - std::sin(kPi * u));
+    const double y_end = c >= 0 ? y_front : y_back;
+    const double y = i == kBridge / 2 ? P.crotch_y : P.crotch_y + (y_end - P.crotch_y) * (1 - std::sin(kPi * u));
     const double z = P.crotch_z + (c >= 0 ? z_front - P.crotch_z : P.crotch_z - z_back) * c;
     B.bridge.push_back(B.add({0, y, z}, Part::Bridge, 0));
   }
@@ -925,7 +996,14 @@ void build(const BodyPlan& P, Builder& B) {
       const LegRing& g = P.leg[static_cast<size_t>(r)];
       for (int k = 0; k < kLegN; ++k) {
         const auto q = leg_xz(g, leg_angle(k));
-        const Vec3 p{q.x(), g.y, q.y()};
+        double y = g.y;
+        if (r == 1) {  // under a dropped seat: follow the torso column above (k ≤ 32) or the bridge
+          double s = 0, c = -1;
+          if (k <= kTorsoN / 2) { s = std::sin(2 * kPi * k / kTorsoN); c = std::cos(2 * kPi * k / kTorsoN); }
+          else c = -std::cos(kPi * (k - kTorsoN / 2) / (kBridge + 1.0));
+          y += P.seat_drop_side * s * s + P.seat_drop_back * std::max(0.0, -c) * std::max(0.0, -c);
+        }
+        const Vec3 p{q.x(), y, q.y()};
         L[static_cast<size_t>(r)][static_cast<size_t>(k)] = B.add(sd == 0 ? p : mirror(p), Part::Leg, sd == 0 ? 1 : -1);
       }
     }
@@ -1045,7 +1123,7 @@ void add_landmarks(Builder& B) {
     const std::string s = sd == 0 ? "_left" : "_right";
     auto J = [&](int j) { return sd == 0 ? j : (mirror_j - j) % kTorsoN; };
     L["acromion" + s] = B.arm[static_cast<size_t>(sd)][static_cast<size_t>(arm_key_ring(kAcromion))][kArmTop];
-    L["axilla" + s] = T(kAxilla, J(16));
+    L["axilla" + s] = T(kArmpit, J(16));
     L["thelion" + s] = T(kChest, J(jt));
     L["iliocristale" + s] = T(kIlio, J(16));
     L["trochanterion" + s] = T(kLow, J(16));
