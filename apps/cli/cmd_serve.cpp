@@ -10,6 +10,7 @@
 
 #include "caliper/capture/store.h"
 #include "common.h"
+#include "host_check.h"
 #include "server.h"
 #include "tls_certificate.h"
 
@@ -39,6 +40,9 @@ void register_serve(CLI::App& app) {
                                         "certificate is made once in the data folder");
   cmd->add_option("--cert", opts->cert_file, "PEM certificate for --https");
   cmd->add_option("--key", opts->key_file, "PEM private key for --https");
+  cmd->add_option("--allow-host", opts->allowed_hosts,
+                  "also answer requests addressed to this host name (repeatable); by default only IP addresses and "
+                  "localhost are answered, so other web sites cannot reach the server through DNS rebinding");
   cmd->callback([=] {
     if (opts->threads < 1 || opts->threads > 256)
       throw Error(ErrorKind::OutOfRange, "--threads must be in [1, 256]", "--threads");
@@ -52,6 +56,8 @@ void register_serve(CLI::App& app) {
       std::cerr << "caliper serve: warning: capture sessions unavailable (" << e.what() << "); the desktop tool works\n";
     }
     opts->api.sessions_database = db;
+    // Listening on a host name (not an address) means requests will carry that name.
+    if (!server::host_is_allowed(opts->host, {})) opts->allowed_hosts.push_back(opts->host);
     if ((!opts->cert_file.empty() || !opts->key_file.empty()) && !opts->https)
       throw Error(ErrorKind::InvalidArgument, "--cert and --key need --https", "--https");
     if (opts->https && (opts->cert_file.empty() != opts->key_file.empty()))

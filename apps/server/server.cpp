@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
+#include "host_check.h"
 #include "static_files.h"
 
 namespace caliper::server {
@@ -77,6 +78,13 @@ struct Server::Impl {
   void dispatch(const httplib::Request& req, httplib::Response& res) const {
     res.set_header("X-Content-Type-Options", "nosniff");
     res.set_header("Referrer-Policy", "no-referrer");
+    if (const std::string host = req.get_header_value("Host"); !host_is_allowed(host, options.allowed_hosts)) {
+      send(res, error_response(403,
+                               "this server answers requests addressed to an IP address or localhost, not to '" + host +
+                                   "' (protection against DNS rebinding); start it with --allow-host NAME to use a host name",
+                               "Host", "host_not_allowed"));
+      return;
+    }
     if (req.path.rfind("/api/", 0) == 0) handle_api(req, res);
     else if (req.method == "GET" || req.method == "HEAD") handle_static(req, res);
     else send(res, error_response(405, req.method + " is only allowed on /api/ endpoints", "method", "method_not_allowed"));

@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "api.h"
 
@@ -21,6 +22,8 @@ struct ServerOptions {
   // HTTPS (headsets need a secure context for WebXR): PEM certificate and private key files.
   bool https = false;
   std::string cert_file, key_file;
+  // Host names answered besides IP addresses and localhost (host_check.h); others get 403.
+  std::vector<std::string> allowed_hosts;
 };
 
 class Server {

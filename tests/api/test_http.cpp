@@ -127,6 +127,23 @@ TEST_F(HttpTest, BadRequestsGetJsonErrors) {
   EXPECT_EQ(r->status, 405);
 }
 
+// A page on another site that rebinds its own DNS name to this machine sends that name in Host.
+TEST_F(HttpTest, RequestsForOtherHostNamesAreRefused) {
+  const std::string refused = raw("GET /api/health HTTP/1.1\r\nHost: evil.example:" + std::to_string(port_) +
+                                  "\r\nConnection: close\r\n\r\n");
+  ASSERT_EQ(refused.substr(0, 12), "HTTP/1.1 403") << refused;
+  const json e = json::parse(refused.substr(refused.find("\r\n\r\n") + 4))["error"];
+  EXPECT_EQ(e["field"], "Host");
+  EXPECT_NE(e["message"].get<std::string>().find("--allow-host"), std::string::npos);
+  const std::string page = raw("GET / HTTP/1.1\r\nHost: evil.example\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(page.substr(0, 12), "HTTP/1.1 403");
+  for (const std::string host : {"localhost", "127.0.0.1", "[::1]"}) {
+    const std::string ok = raw("GET /api/health HTTP/1.1\r\nHost: " + host + ":" + std::to_string(port_) +
+                               "\r\nConnection: close\r\n\r\n");
+    EXPECT_EQ(ok.substr(0, 12), "HTTP/1.1 200") << host;
+  }
+}
+
 TEST_F(HttpTest, OversizedBodiesAreRefusedWith413) {
   auto c = client();
   std::string big = "{\"measurements\": {\"stature\": 170, \"weight\": 60}, \"pad\": \"" + std::string(200 * 1024, 'x') + "\"}";
