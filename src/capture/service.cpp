@@ -56,7 +56,12 @@ const std::string& CaptureService::database_path() const { return store_->path()
 
 Session* CaptureService::live(const std::string& id) {
   auto it = sessions_.find(id);
-  if (it != sessions_.end()) return it->second.get();
+  if (it != sessions_.end()) {
+    // Another process (`caliper sessions delete`) may have removed it from the store since.
+    if (store_->contains(id)) return it->second.get();
+    sessions_.erase(it);
+    return nullptr;
+  }
   std::optional<StoredSession> stored = store_->load(id);
   if (!stored) return nullptr;
   CaptureProtocol::Config config;

@@ -301,6 +301,12 @@ std::optional<std::string> SessionStore::pairing_hash(const std::string& id) con
   return q.text(0);
 }
 
+bool SessionStore::contains(const std::string& id) const {
+  Stmt q(impl_->db, "SELECT 1 FROM sessions WHERE id = ?1");
+  q.bind(1, id);
+  return q.step();
+}
+
 void SessionStore::append_point(const std::string& id, const CapturePoint& p, const SessionSummary& after) {
   Impl& s = *impl_;
   s.transaction([&] {

@@ -254,6 +254,25 @@ TEST(CaptureService, ListsNewestFirstAndDeletes) {
   EXPECT_EQ(*svc.find(b)->protocol.weight_kg(), 55.0);  // a refused entry changes nothing
 }
 
+// `caliper sessions delete` runs in another process while a server holds the session in memory:
+// the server must not go on serving it, nor write points for it.
+TEST(CaptureService, ASessionDeletedByAnotherProcessIsGone) {
+  TempDir dir;
+  CaptureService server(options_for(dir / "s.db"));
+  const std::string id = server.create({}).session.id;
+  ASSERT_TRUE(server.find(id));
+  {
+    CaptureService other(options_for(dir / "s.db"));
+    EXPECT_TRUE(other.remove(id));
+  }
+  EXPECT_FALSE(server.find(id));
+  EXPECT_FALSE(server.feed(id, {}, {}));
+  EXPECT_FALSE(server.undo(id, nullptr));
+  EXPECT_FALSE(server.set_entries(id, 60.0, std::nullopt));
+  EXPECT_TRUE(server.list().empty());
+  EXPECT_FALSE(SessionStore(dir / "s.db").contains(id));
+}
+
 TEST(MeasurementSetFile, RoundTripsJsonAndCsvAndChecksValues) {
   MeasurementSetFile set;
   set.sex = Sex::Female;

@@ -52,6 +52,7 @@ class SessionStore {
   std::vector<std::string> ids() const;  // newest first
   std::optional<StoredSession> load(const std::string& id) const;
   std::optional<std::string> pairing_hash(const std::string& id) const;
+  bool contains(const std::string& id) const;
 
   // Each is one transaction. Throws Error(Io) when the write fails.
   void append_point(const std::string& id, const CapturePoint& point, const SessionSummary& after);
