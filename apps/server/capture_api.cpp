@@ -204,8 +204,9 @@ ordered_json event_json(const CaptureEvent& e) {
   return j;
 }
 
-// Wrong pairing codes per session: after kMaxFailures within kWindow, writes are refused (429)
-// until the window passes, so the 10^6 codes cannot be walked through.
+// Wrong pairing codes per session and client address: after kMaxFailures within kWindow, that
+// client's writes to that session are refused (429) until the window passes, so the 10^6 codes
+// cannot be walked through, and a device guessing codes locks out only itself, not the headset.
 constexpr int kMaxFailures = 10;
 constexpr auto kWindow = std::chrono::seconds(60);
 
@@ -239,19 +240,23 @@ struct CaptureApi::Impl {
 
   void require_pairing(const ApiRequest& req, const std::string& id) const {
     const auto now = std::chrono::steady_clock::now();
+    const std::string key = req.remote_address + " " + id;
     {
       std::lock_guard<std::mutex> lock(failures_mutex);
-      auto& f = failures[id];
-      while (!f.empty() && now - f.front() > kWindow) f.pop_front();
-      if (static_cast<int>(f.size()) >= kMaxFailures)
-        refuse(429, "too many wrong pairing codes for this session; wait a minute", "pairing_code", "too_many_attempts");
+      if (auto f = failures.find(key); f != failures.end()) {
+        while (!f->second.empty() && now - f->second.front() > kWindow) f->second.pop_front();
+        if (f->second.empty()) failures.erase(f);
+        else if (static_cast<int>(f->second.size()) >= kMaxFailures)
+          refuse(429, "too many wrong pairing codes for this session from this device; wait a minute", "pairing_code",
+                 "too_many_attempts");
+      }
     }
     auto it = req.headers.find("x-caliper-pairing");
     if (it == req.headers.end() || it->second.empty())
       refuse(403, "this write needs the session's pairing code in the X-Caliper-Pairing header", "pairing_code", "forbidden");
     if (!service().check_pairing(id, it->second)) {
       std::lock_guard<std::mutex> lock(failures_mutex);
-      failures[id].push_back(now);
+      failures[key].push_back(now);
       refuse(403, "wrong pairing code for this session", "pairing_code", "forbidden");
     }
   }

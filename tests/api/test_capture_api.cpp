@@ -40,10 +40,12 @@ ApiOptions options_for(const std::string& db) {
 }
 
 ApiResponse call(const Api& api, const std::string& method, const std::string& path, const std::string& body = {},
-                 const std::string& code = {}, std::map<std::string, std::string> query = {}) {
+                 const std::string& code = {}, std::map<std::string, std::string> query = {},
+                 const std::string& remote_address = "192.168.1.20") {
   ApiRequest r;
   r.method = method;
   r.path = path;
+  r.remote_address = remote_address;
   r.body = body;
   r.query = std::move(query);
   r.content_type = "application/json";
@@ -213,6 +215,8 @@ TEST(CaptureApi, WritesNeedThePairingCode) {
   // Guessing is slowed down: after 10 wrong codes in a minute even the right one waits.
   for (int i = 0; i < 8; ++i) call(api, "POST", "/api/sessions/" + id + "/undo", "", wrong);
   expect_error(call(api, "POST", "/api/sessions/" + id + "/undo", "", code), 429, "pairing_code");
+  // ... from that device only: the headset, elsewhere on the network, goes on with the right code.
+  EXPECT_EQ(call(api, "POST", "/api/sessions/" + id + "/undo", "", code, {}, "192.168.1.30").status, 200);
   // Another session is not affected.
   const auto [id2, code2] = create(api);
   EXPECT_EQ(call(api, "DELETE", "/api/sessions/" + id2, "", code2).status, 204);
