@@ -774,6 +774,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       // front and back: there the superellipse is at |cos t|^(2/p) of its full depth.
       const double sn = std::pow(std::clamp(t.xc / b.a, 0.0, 0.95), b.p / 2);
       const double cf = std::pow(std::sqrt(1 - sn * sn), 2 / b.p);
+      const double t_thigh = std::asin(sn);  // the ring's angle above the thigh's centre line
       // Not deeper at the centre than the hip ring or the thighs themselves: a bottom ring that
       // bulges past both neighbours reads as a band where hips meet thighs.
       const int kh = torso_key_ring(kHip);
@@ -783,20 +784,20 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       // lower belly then meets the thighs over their fronts and dips between them, instead of
       // overhanging both in a horizontal crease.
       b.df = std::max(0.02, std::min(0.98 * reach_front, std::max(h.df, reach_front)));
-      b.bust_t = std::asin(sn);
+      b.bust_t = t_thigh;
       b.bust_w = 0.35;
       b.bust = std::max(0.0, reach_front - b.df * cf);
       b.db = std::max(0.02, std::min(0.98 * reach_back, std::max(h.db, reach_back)));
       // The buttock cheeks end over the backs of the thighs (the gluteal fold), never in front
       // of them: a thigh bulging out under the buttock reads as a band.
       {
-        const double tb = kPi - std::asin(std::pow(std::clamp(t.xc / b.a, 0.0, 0.95), b.p / 2));
         const double gap = (b.cz - b.db * cf) - (t.zc - t.bb) + 0.003;
-        const double bump = std::exp(-std::pow((tb - (kPi - 0.62)) / 0.42, 2));
+        const double bump = std::exp(-std::pow((kPi - t_thigh - (kPi - 0.62)) / 0.42, 2));
         b.glute = std::max(0.0, gap / bump);
       }
-      // Rings between the bottom and the hip ring blend with zero slope at both ends (thighs below,
-      // the hip above), so the profile has no kink at either ring).
+      // Rings between the bottom and the hip ring: the sides follow the hip outline; depths and
+      // bumps blend with zero slope at both ends (thighs below, the hip above), so the profile has
+      // no kink at either ring.
       for (int k = 1; k < kh; ++k) {
         TorsoRing& r = P.torso[static_cast<size_t>(k)];
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
