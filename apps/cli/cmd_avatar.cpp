@@ -83,8 +83,10 @@ void register_render(CLI::App& app) {
   cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
   cmd->add_option("-o,--output", *output, "output PNG file")->required();
   cmd->add_option("--views", *views, "views: front, side, back, three-quarter")->delimiter(',')->capture_default_str();
-  cmd->add_option("--pose", *pose, "t (rest pose, arms horizontal) or a (arms lowered 45°, posed by the rig's skinning)")
-      ->check(CLI::IsMember({"t", "a"}))
+  cmd->add_option("--pose", *pose,
+                  "t (rest pose, arms horizontal), a (arms lowered 45°) or stride (mid-stride, knees and elbows bent); "
+                  "a and stride are posed by the rig's skinning")
+      ->check(CLI::IsMember({"t", "a", "stride"}))
       ->capture_default_str();
   cmd->add_flag("--uncertainty", *heat,
                 "colour the body by the per-vertex SD of --regressor map (blue: certain, red: the body's largest SD)");
@@ -117,8 +119,11 @@ void register_render(CLI::App& app) {
         ro.scalar_min = 0.0f;
         ro.scalar_max = static_cast<float>(sd.maxCoeff());
       }
-      const Vertices shown = *pose == "a" ? pose_vertices(*built.model, built.avatar.rest_vertices, a_pose(*built.model))
-                                          : built.avatar.rest_vertices;
+      const BodyModel& model = *built.model;
+      const Vertices& rest = built.avatar.rest_vertices;
+      const Vertices shown = *pose == "a"        ? pose_vertices(model, rest, a_pose(model))
+                             : *pose == "stride" ? pose_vertices(model, rest, stride_pose(model))
+                                                 : rest;
       write_file(*output, render_views_png(shown, built.model->faces(), vs, ro));
     }
     std::cout << "wrote " << *output << "\n";

@@ -39,6 +39,21 @@ Pose a_pose(const BodyModel& model, double degrees) {
   return pose;
 }
 
+Pose stride_pose(const BodyModel& model) {
+  Pose pose = zero_pose(model);
+  // Axis-angle per joint (radians). Legs hang along −Y and bend about X (a negative angle swings
+  // the thigh forward, a positive one folds the shin back); arms point along ±X, are lowered
+  // about Z and their forearms swing forward about Y.
+  const std::pair<const char*, Eigen::Vector3d> rotations[] = {
+      {"left_hip", {-0.5, 0, 0}},    {"left_knee", {0.75, 0, 0}},   {"right_hip", {0.3, 0, 0}},
+      {"right_knee", {0.35, 0, 0}},  {"left_ankle", {0.15, 0, 0}},  {"left_shoulder", {0, 0, -1.15}},
+      {"right_shoulder", {0, 0, 1.15}}, {"left_elbow", {0, -1.0, 0}}, {"right_elbow", {0, 0.8, 0}},
+  };
+  for (const auto& [name, r] : rotations)
+    if (int j = joint_index(model, name); j >= 0) pose.row(j) = r.transpose();
+  return pose;
+}
+
 std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model, const Eigen::MatrixX3d& rest_joints,
                                                     const Pose& pose) {
   const int nj = model.joint_count();

@@ -178,6 +178,31 @@ TEST(MannequinGenerator, BendingElbowAndKneeDoesNotExplode) {
   }
 }
 
+// The stride pose (docs/images/mannequin-posed.png) bends the joints the way its name says, and
+// only those: the left foot swings forward, the right one back, the hands come down and forward.
+TEST(MannequinGenerator, StridePoseSwingsTheLimbsWhereItSays) {
+  const Vertices v = mq::generate(mq::typical_dimensions(Sex::Female), Sex::Female);
+  const BodyModel model = model_for(v, Sex::Female);
+  const Vertices posed = pose_vertices(model, v, stride_pose(model));
+  ASSERT_TRUE(posed.allFinite());
+  const auto& lm = mq::topology().landmarks;
+  auto moved = [&](const std::string& name) -> Eigen::Vector3d {
+    const int i = lm.at(name);
+    return (posed.row(i) - v.row(i)).transpose();
+  };
+  EXPECT_GT(moved("heel_left").z(), 0.05);    // forward
+  EXPECT_LT(moved("heel_right").z(), -0.05);  // back
+  EXPECT_GT(moved("heel_left").y(), 0.03);    // the bent knee lifts the foot
+  for (const char* hand : {"dactylion_left", "dactylion_right"}) {
+    EXPECT_LT(moved(hand).y(), -0.3) << hand;  // arms lowered
+    EXPECT_GT(moved(hand).z(), 0.1) << hand;   // forearms forward
+  }
+  EXPECT_LT(moved("vertex").norm(), 1e-9);  // head and trunk stay
+  EXPECT_LT(moved("omphalion").norm(), 1e-9);
+  // Nothing flies off: no vertex travels farther than a whole arm swinging down.
+  EXPECT_LT((posed - v).rowwise().norm().maxCoeff(), 0.9);
+}
+
 TEST(MannequinGenerator, BadInputsThrowNamingTheField) {
   auto d = mq::typical_dimensions(Sex::Female);
   auto expect_field = [&](mq::Dimensions dims, const std::string& field) {

@@ -16,6 +16,9 @@ Pose zero_pose(const BodyModel& model);  // the rest pose (our models' rest is a
 Pose t_pose(const BodyModel& model);     // same as zero_pose: arms horizontal
 // Arms lowered by `degrees` from horizontal at the shoulders (45° is the usual A-pose).
 Pose a_pose(const BodyModel& model, double degrees = 45.0);
+// Mid-stride, to show the rig bending: left thigh forward and knee bent, right thigh back, arms
+// lowered with the elbows bent. Joints the model lacks (by SMPL name) are left at rest.
+Pose stride_pose(const BodyModel& model);
 
 // World transforms of every joint for a pose, given rest joints (J×3). 4×4 each.
 std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model,
