@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
+#include "caliper/measure/catalogue.h"
 
 namespace caliper {
 
@@ -32,6 +33,31 @@ std::vector<std::string> split(const std::string& line) {
   }
   return out;
 }
+// The Virtual Caliper inputs a row provides, each within the catalogue's accepted range: a file
+// in centimetres instead of ANSUR's millimetres would otherwise give 17 cm avatars without a word.
+void check_inputs(const AnsurSubject& s, const std::string& where) {
+  const std::pair<const char*, std::vector<const char*>> inputs[] = {
+      {"stature", {"stature"}}, {"weight", {"weightkg"}}, {"span", {"span"}}, {"crotch_height", {"crotchheight"}},
+      {"hip_breadth", {"hipbreadth"}}, {"arm_length", {"acromionradialelength", "radialestylionlength"}}};
+  for (const auto& [name, columns] : inputs) {
+    double si = 0;
+    bool present = true;
+    for (const char* c : columns) {
+      auto it = s.values.find(c);
+      if (it == s.values.end()) present = false;
+      else si += it->second;
+    }
+    if (!present) continue;
+    const MeasurementInfo* info = find_measurement_info(name);
+    try {
+      edge_to_si(*info, si_to_edge(*info, si));
+    } catch (const Error& e) {
+      throw Error(ErrorKind::OutOfRange, where + ": " + e.what() + " (ANSUR II files give lengths in millimetres and " +
+                                             "weightkg in tenths of a kilogram)", columns.front());
+    }
+  }
+}
+
 }  // namespace
 
 double ansur_to_si(const std::string& column, double raw) {
@@ -84,6 +110,7 @@ std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::st
                                            "' is not a number ('" + cell + "')", header[i]);
       s.values[header[i]] = ansur_to_si(header[i], v);
     }
+    check_inputs(s, source + ":" + std::to_string(line_no));
     subjects.push_back(std::move(s));
   }
   if (header.empty()) throw Error(ErrorKind::Format, source + ": empty file", "header");

@@ -36,6 +36,25 @@ TEST(Ansur, ErrorsNameLineAndColumn) {
   EXPECT_THROW(read_ansur_csv("/nonexistent.csv"), Error);
 }
 
+// A row in centimetres (165 instead of 1650 mm) would make a 16.5 cm avatar: refused, naming the
+// file, line, column and the accepted range. Columns a file lacks are not required.
+TEST(Ansur, InputsOutsideTheAcceptedRangeAreRefused) {
+  try {
+    parse_ansur_csv("stature,weightkg,Gender\n1650,600,Female\n165,600,Female\n", "cm.csv");
+    FAIL() << "a stature of 16.5 cm was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::OutOfRange);
+    EXPECT_EQ(e.field(), "stature");
+    const std::string m = e.what();
+    EXPECT_NE(m.find("cm.csv:3"), std::string::npos) << m;
+    EXPECT_NE(m.find("[50, 250] cm"), std::string::npos) << m;
+  }
+  EXPECT_THROW(parse_ansur_csv("stature,weightkg,Gender\n1650,6000,Female\n", "kg.csv"), Error);  // 600 kg
+  EXPECT_THROW(parse_ansur_csv("stature,acromionradialelength,radialestylionlength,Gender\n1650,31,24,Male\n", "a.csv"),
+               Error);  // arm length 5.5 cm
+  EXPECT_EQ(parse_ansur_csv("stature,Gender\n1650,Female\n", "ok.csv").size(), 1u);
+}
+
 TEST(Ansur, DevelopmentFilesWhenPresent) {
   const std::string dir = std::string(CALIPER_SHARED_DIR) + "/data/ansur2";
   if (!std::filesystem::exists(dir + "/ANSUR_II_FEMALE_dev.csv"))
