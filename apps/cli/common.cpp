@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
+#include <sstream>
 #include <iostream>
 #include <unistd.h>
 
@@ -90,9 +92,18 @@ BuiltAvatar build_avatar(const BodyOptions& opts) {
     for (const auto& [name, value] : file.edge) edge.emplace(name, value);  // options win
     if (file.sex && !opts.sex_given) sex = *file.sex;
   }
+  std::set<std::string> set_names;  // canonical names given with --set
   for (const auto& kv : opts.extra) {
     const auto [name, v] = name_value(kv, "--set");
-    edge[name] = v;
+    // Two values for one measurement on the command line is a mistake to report, not to settle
+    // silently (the measurement file's values are meant to be overridden by options).
+    if (const MeasurementInfo* info = find_measurement_info(name)) {
+      if (opts.values.count(info->name) || !set_names.insert(info->name).second)
+        throw Error(ErrorKind::InvalidArgument, info->name + " is given twice on the command line", info->name);
+      edge[info->name] = v;
+    } else {
+      edge[name] = v;  // unknown: measurements_from_edge names it
+    }
   }
   std::map<std::string, double> noise_sd;  // SI
   for (const auto& kv : opts.noise_sd) {
@@ -109,6 +120,13 @@ BuiltAvatar build_avatar(const BodyOptions& opts) {
   if (!opts.beta.empty()) {
     if (!edge.empty())
       throw Error(ErrorKind::InvalidArgument, "give either --beta or measurements, not both", "--beta");
+    // β ~ N(0, I): beyond ±5 SD the shape space extrapolates into bodies that are not bodies.
+    for (size_t k = 0; k < opts.beta.size(); ++k)
+      if (!std::isfinite(opts.beta[k]) || std::abs(opts.beta[k]) > 5) {
+        std::ostringstream msg;
+        msg << "beta[" << k + 1 << "] = " << opts.beta[k] << " is outside the accepted range [-5, 5] (SD from the mean body)";
+        throw Error(ErrorKind::OutOfRange, msg.str(), "--beta");
+      }
     Eigen::VectorXd beta = Eigen::Map<const Eigen::VectorXd>(opts.beta.data(), static_cast<Eigen::Index>(opts.beta.size()));
     Avatar& a = out.avatar;
     a.regressor = "none (beta given)";

@@ -66,7 +66,8 @@ Sex sex_of(const std::string& text, const std::string& where) {
   const std::string t = lower_trim(text);
   if (t == "female" || t == "f") return Sex::Female;
   if (t == "male" || t == "m") return Sex::Male;
-  throw Error(ErrorKind::Format, where + ": sex must be female or male (got '" + text + "')", "sex");
+  if (t == "neutral" || t == "n") return Sex::Neutral;  // as `--sex neutral` and the server allow
+  throw Error(ErrorKind::Format, where + ": sex must be female, male or neutral (got '" + text + "')", "sex");
 }
 
 MeasurementSetFile parse_json(const std::string& text) {

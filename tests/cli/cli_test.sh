@@ -200,5 +200,19 @@ expect 4 "serve refuses it too" "$CALIPER" serve --port 0 --no-warm-up --data "$
 expect 0 "and leaves it untouched" cmp "$TMP/foreign/sessions.db" "$TMP/foreign.copy"
 # --------------------------------------------------------------------------------------------- (capture)
 
+# Mistakes a new user makes (found by a review): refused with the field named, not turned into an
+# avatar that is silently wrong.
+expect 3 "beta far outside the shape space" "$CALIPER" avatar --beta=-100 -o "$TMP/b.obj"
+says "beta[1]" "the message names the shape value"
+expect 3 "a measurement given twice" "$CALIPER" avatar --height 170 --weight 60 --set stature=180 -o "$TMP/t.obj"
+says "stature is given twice" "and names it"
+printf 'SubjectId,stature,weightkg,span,crotchheight,hipbreadth,acromionradialelength,radialestylionlength,Gender\n1,165,600,1700,780,350,310,240,Female\n' >"$TMP/cm.csv"
+expect 3 "batch on a file in centimetres" "$CALIPER" batch --subjects "$TMP/cm.csv" --out "$TMP/cmout"
+says "cm.csv:2: stature = 16.5 cm is outside the accepted range" "names file, line and range"
+expect 3 "eval on it" "$CALIPER" eval --subjects "$TMP/cm.csv"
+printf '{"format": "caliper-measurements", "sex": "neutral", "measurements": {"stature": 170, "weight": 65}}\n' >"$TMP/neutral.json"
+expect 0 "a neutral measurement set" "$CALIPER" avatar --measurements "$TMP/neutral.json" -o "$TMP/n.obj"
+says "mannequin-neutral" "builds on the neutral model"
+
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

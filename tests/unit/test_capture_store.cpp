@@ -277,11 +277,15 @@ TEST(MeasurementSetFile, RoundTripsJsonAndCsvAndChecksValues) {
   MeasurementSetFile set;
   set.sex = Sex::Female;
   set.edge = {{"stature", 172.34}, {"weight", 61.5}, {"hip_breadth", 35.2}};
-  for (const std::string& text : {write_measurement_set_json(set), write_measurement_set_csv(set)}) {
-    const MeasurementSetFile back = parse_measurement_set(text);
-    EXPECT_EQ(back.sex, set.sex);
-    EXPECT_EQ(back.edge, set.edge) << text;
+  for (Sex sex : {Sex::Female, Sex::Male, Sex::Neutral}) {  // neutral too: the server writes it
+    set.sex = sex;
+    for (const std::string& text : {write_measurement_set_json(set), write_measurement_set_csv(set)}) {
+      const MeasurementSetFile back = parse_measurement_set(text);
+      EXPECT_EQ(back.sex, set.sex) << text;
+      EXPECT_EQ(back.edge, set.edge) << text;
+    }
   }
+  set.sex = Sex::Female;
   EXPECT_NE(write_measurement_set_json(set).find("\"format\": \"caliper-measurements\""), std::string::npos);
   const MeasurementSetFile csv = parse_measurement_set("measurement,value,unit\nheight,1.72,m\nspan,1700,mm\nweight,132.27735731092,lb\n");
   EXPECT_DOUBLE_EQ(csv.edge.at("stature"), 172.0);
@@ -295,6 +299,7 @@ TEST(MeasurementSetFile, RoundTripsJsonAndCsvAndChecksValues) {
     EXPECT_EQ(e.field(), "stature");
   }
   EXPECT_THROW(parse_measurement_set("stature,abc\n"), Error);
+  EXPECT_THROW(parse_measurement_set("{\"sex\": \"robot\", \"measurements\": {\"stature\": 170}}"), Error);
   EXPECT_THROW(parse_measurement_set("{\"measurements\": {}}"), Error);
   EXPECT_THROW(parse_measurement_set("{\"measurements\": {\"elbow_wobble\": 3}}"), Error);
 }
