@@ -2,6 +2,7 @@
 #include "caliper/avatar.h"
 
 #include <algorithm>
+#include <iomanip>
 #include <sstream>
 
 #include "caliper/errors.h"
@@ -168,7 +169,33 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   if (request.apply_model_maps) maps_.apply(avatar.targets);
   avatar.beta = r.predict(*model_, avatar.targets);
   finish(request, avatar);
+  warn_about_inputs(avatar);
   return avatar;
+}
+
+// A regressor uses only its own inputs and reproduces them exactly within the population; say
+// so when a given value was left out, or when the body could not reach an input (a combination
+// far outside the population, e.g. 60 cm and 290 kg), instead of returning a silently wrong body.
+void AvatarBuilder::warn_about_inputs(Avatar& avatar) const {
+  for (const auto& [name, value] : avatar.requested)
+    if (std::find(avatar.inputs.begin(), avatar.inputs.end(), name) == avatar.inputs.end())
+      avatar.warnings.push_back(name + " was given but " + avatar.regressor +
+                                " does not use it; --regressor map (or a regressor listing it) uses every value");
+  for (const auto& name : avatar.inputs) {
+    const auto target = avatar.targets.find(name);
+    const auto got = avatar.achieved.find(name);
+    if (target == avatar.targets.end() || got == avatar.achieved.end()) continue;
+    const MeasurementInfo* info = find_measurement_info(name);
+    const bool kg = info && info->unit == Unit::Kilogram;
+    const double tolerance = std::max(kg ? 2.0 : 0.01, 0.03 * std::abs(target->second));  // 2 kg or 1 cm, 3 %
+    if (std::abs(got->second - target->second) <= tolerance) continue;
+    std::ostringstream msg;
+    const double scale = kg ? 1.0 : 100.0;
+    msg << std::fixed << std::setprecision(1) << name << ": the body reaches " << got->second * scale << " "
+        << (kg ? "kg" : "cm") << ", not the " << target->second * scale << " " << (kg ? "kg" : "cm")
+        << " asked: these values together lie outside what the model can represent";
+    avatar.warnings.push_back(msg.str());
+  }
 }
 
 std::map<std::string, double> measurements_from_edge(const std::map<std::string, double>& edge_values) {

@@ -35,7 +35,6 @@ void print_summary(const BuiltAvatar& built, std::ostream& os) {
     if (auto u = a.uncertainty.find(name); u != a.uncertainty.end()) os << std::setw(9) << u->second * scale;
     os << "\n";
   }
-  for (const auto& w : a.warnings) os << "warning: " << w << "\n";
 }
 
 }  // namespace

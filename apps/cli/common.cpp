@@ -83,7 +83,25 @@ std::pair<std::string, double> name_value(const std::string& kv, const std::stri
 }
 }  // namespace
 
+namespace {
+// Warnings and an implausible shape go to standard error whatever else is printed (-q included):
+// a body the user should not trust must not pass unnoticed in a script.
+void warn(const Avatar& a) {
+  for (const auto& w : a.warnings) std::cerr << "caliper: warning: " << w << "\n";
+  if (a.plausibility.overall == Verdict::Implausible)
+    std::cerr << "caliper: warning: the shape is implausible: " << a.plausibility.explanation << "\n";
+}
+}  // namespace
+
+static BuiltAvatar build_avatar_quietly(const BodyOptions& opts);
+
 BuiltAvatar build_avatar(const BodyOptions& opts) {
+  BuiltAvatar out = build_avatar_quietly(opts);
+  warn(out.avatar);
+  return out;
+}
+
+static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
   Sex sex = parse_sex(opts.sex);
   BuiltAvatar out;
   std::map<std::string, double> edge = opts.values;

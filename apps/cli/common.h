@@ -43,6 +43,8 @@ struct BuiltAvatar {
   std::shared_ptr<const BodyModel> model;
   Avatar avatar;
 };
+// Builds the avatar the options describe; its warnings and an implausible verdict are printed on
+// standard error.
 BuiltAvatar build_avatar(const BodyOptions& opts);
 
 void write_file(const std::string& path, const std::string& bytes);

@@ -48,8 +48,9 @@ struct Avatar {
   std::map<std::string, double> achieved;      // SI, every measurement the model knows (or measure_only)
   // Only from "map" (empty otherwise): the noise setting used, the posterior SD of β's
   // measurements (SI, keyed like `achieved`), of each vertex (N, metres, √trace of its 3×3
-  // covariance), the K×K covariance of β, how each input fitted, and warnings in plain words
-  // (an inconsistent input is named first).
+  // covariance), the K×K covariance of β, how each input fitted.
+  // Warnings in plain words, from every regressor: map names an inconsistent input first; the
+  // others say when a given value was not used or an input was not reached.
   std::string noise;
   std::map<std::string, double> uncertainty;
   Eigen::VectorXd vertex_sd;
@@ -81,6 +82,7 @@ class AvatarBuilder {
 
   Avatar build_map(const AvatarRequest& request) const;
   void finish(const AvatarRequest& request, Avatar& avatar) const;  // body, joints, plausibility, measurements
+  void warn_about_inputs(Avatar& avatar) const;  // given values unused or not reached (regressor paths)
 };
 
 // Checks and converts user-edge values (cm, kg; names or aliases) into a request's SI map.

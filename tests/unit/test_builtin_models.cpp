@@ -198,5 +198,29 @@ TEST_P(BuiltinModel, GlbReadsBackInAssimpWithTheSameCounts) {
 }
 #endif
 
+// A regressor reproduces its inputs inside the population; outside it, or when a given value is
+// not one of its inputs, the avatar says so instead of being silently wrong.
+TEST_P(BuiltinModel, AvatarsSayWhatTheyDidNotReproduce) {
+  AvatarBuilder builder(model(GetParam()));
+  AvatarRequest ordinary;
+  ordinary.measurements = measurements_from_edge({{"stature", 170}, {"weight", 68}});
+  EXPECT_TRUE(builder.build(ordinary).warnings.empty());
+  auto mentions = [](const Avatar& a, const std::string& what) {
+    for (const auto& w : a.warnings)
+      if (w.find(what) != std::string::npos) return true;
+    return false;
+  };
+  AvatarRequest with_span = ordinary;
+  with_span.measurements = measurements_from_edge({{"stature", 170}, {"weight", 68}, {"span", 255}});
+  const Avatar a = builder.build(with_span);
+  EXPECT_EQ(a.regressor, "R2");
+  EXPECT_TRUE(mentions(a, "span was given but R2 does not use it")) << (a.warnings.empty() ? "" : a.warnings[0]);
+  AvatarRequest absurd = ordinary;
+  absurd.measurements = measurements_from_edge({{"stature", 60}, {"weight", 290}});
+  const Avatar b = builder.build(absurd);
+  EXPECT_TRUE(mentions(b, "weight: the body reaches")) << (b.warnings.empty() ? "" : b.warnings[0]);
+  EXPECT_EQ(b.plausibility.overall, Verdict::Implausible);
+}
+
 INSTANTIATE_TEST_SUITE_P(Sexes, BuiltinModel, ::testing::Values(Sex::Female, Sex::Male, Sex::Neutral),
                          [](const auto& info) { return std::string(to_string(info.param)); });
