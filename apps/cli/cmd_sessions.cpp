@@ -1,7 +1,9 @@
 // `caliper sessions list|export|delete`: capture sessions (docs/capture.md) stored by
 // `caliper serve` in the data folder's sessions.db.
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "caliper/capture/measurement_set.h"
@@ -14,6 +16,23 @@ namespace {
 
 std::string database_for(const std::string& data_dir) {
   return data_dir.empty() ? capture::SessionStore::default_path() : capture::SessionStore::path_in(data_dir);
+}
+
+// These commands only read or remove: opening a database that is not there would create it (and
+// its folder), so a mistyped --data would leave files behind and report "no sessions".
+std::optional<capture::CaptureService> open_existing(const std::string& data_dir) {
+  const std::string db = database_for(data_dir);
+  std::error_code ec;
+  if (!std::filesystem::exists(db, ec)) return std::nullopt;
+  return std::optional<capture::CaptureService>(std::in_place, capture::CaptureServiceOptions{db, capture::ProfileRegistry::builtin(), {}});
+}
+
+capture::CaptureService& existing_or_throw(std::optional<capture::CaptureService>& svc, const std::string& data_dir,
+                                           const std::string& id) {
+  if (!svc)
+    throw Error(ErrorKind::InvalidArgument, "no capture session '" + id + "': there is no " + database_for(data_dir) +
+                                                " (is --data right?)", "id");
+  return *svc;
 }
 
 capture::Session find_or_throw(capture::CaptureService& svc, const std::string& id) {
@@ -29,13 +48,18 @@ void register_sessions(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("sessions", "List, export or delete capture sessions (measured in VR with `caliper serve`)");
   cmd->add_option("--data", *data_dir, "data folder holding sessions.db (default: $XDG_DATA_HOME/caliper or ~/.local/share/caliper)");
   cmd->require_subcommand(1);
+  cmd->fallthrough();  // `caliper sessions list --data DIR` as well as `caliper sessions --data DIR list`
 
   CLI::App* list = cmd->add_subcommand("list", "One line per session, newest first: id, created, state, progress, values");
   list->callback([=] {
-    capture::CaptureService svc({database_for(*data_dir), capture::ProfileRegistry::builtin(), {}});
-    const auto sessions = svc.list();
+    auto svc = open_existing(*data_dir);
+    if (!svc) {
+      std::cout << "no capture sessions: there is no " << database_for(*data_dir) << "\n";
+      return;
+    }
+    const auto sessions = svc->list();
     if (sessions.empty()) {
-      std::cout << "no capture sessions in " << svc.database_path() << "\n";
+      std::cout << "no capture sessions in " << svc->database_path() << "\n";
       return;
     }
     std::cout << std::left << std::setw(16) << "id" << std::setw(22) << "created" << std::setw(11) << "state" << std::setw(7)
@@ -61,8 +85,8 @@ void register_sessions(CLI::App& app) {
   exp->add_option("--format", *format, "json or csv (default: from the output's extension, else json)")
       ->check(CLI::IsMember({"json", "csv"}));
   exp->callback([=] {
-    capture::CaptureService svc({database_for(*data_dir), capture::ProfileRegistry::builtin(), {}});
-    const capture::Session s = find_or_throw(svc, *id);
+    auto svc = open_existing(*data_dir);
+    const capture::Session s = find_or_throw(existing_or_throw(svc, *data_dir, *id), *id);
     MeasurementSetFile set;
     set.sex = s.protocol.sex();
     set.edge = s.protocol.measurement_set();
@@ -84,9 +108,9 @@ void register_sessions(CLI::App& app) {
   CLI::App* del = cmd->add_subcommand("delete", "Delete a session and all its points");
   del->add_option("id", *del_id, "session id (s-…)")->required();
   del->callback([=] {
-    capture::CaptureService svc({database_for(*data_dir), capture::ProfileRegistry::builtin(), {}});
-    find_or_throw(svc, *del_id);
-    svc.remove(*del_id);
+    auto svc = open_existing(*data_dir);
+    find_or_throw(existing_or_throw(svc, *data_dir, *del_id), *del_id);
+    svc->remove(*del_id);
     std::cout << "deleted " << *del_id << "\n";
   });
 }

@@ -213,6 +213,12 @@ expect 3 "eval on it" "$CALIPER" eval --subjects "$TMP/cm.csv"
 printf '{"format": "caliper-measurements", "sex": "neutral", "measurements": {"stature": 170, "weight": 65}}\n' >"$TMP/neutral.json"
 expect 0 "a neutral measurement set" "$CALIPER" avatar --measurements "$TMP/neutral.json" -o "$TMP/n.obj"
 says "mannequin-neutral" "builds on the neutral model"
+expect 0 "sessions list with --data after the subcommand" "$CALIPER" sessions list --data "$CAP"
+says "$CAP/sessions.db" "reads that folder's database"
+expect 0 "sessions list on a folder that does not exist" "$CALIPER" sessions list --data "$TMP/typo"
+says "there is no" "says so"
+expect 1 "and creates nothing" test -e "$TMP/typo"
+expect 3 "export from it" "$CALIPER" sessions export s-000000000000 --data "$TMP/typo"
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]
