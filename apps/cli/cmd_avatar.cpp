@@ -106,6 +106,12 @@ void register_render(CLI::App& app) {
     ro.width = *width;
     ro.height = *height;
     if (!mesh_file->empty()) {
+      // The file is drawn as it is: options that shape or pose an avatar would be ignored.
+      if (*pose != "t" || *heat || !opts->values.empty() || !opts->extra.empty() || !opts->beta.empty() ||
+          !opts->measurements_file.empty())
+        throw Error(ErrorKind::InvalidArgument,
+                    "--mesh draws the file as it is: --pose, --uncertainty, measurements and --beta do not apply to it",
+                    "--mesh");
       Mesh m = read_obj(*mesh_file);
       write_file(*output, render_views_png(m.vertices, m.faces, vs, ro));
     } else {

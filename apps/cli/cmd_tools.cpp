@@ -35,19 +35,29 @@ void register_measure(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("measure",
       "Measure a body: a model at given shape values (--beta) or measurements, or a closed OBJ mesh (--mesh)");
   add_body_options(*cmd, *opts, true);
-  cmd->add_option("--mesh", *mesh_file, "a closed OBJ mesh in metres: stature, volume and weight from volume");
+  cmd->add_option("--mesh", *mesh_file,
+                  "a closed OBJ mesh in metres: stature, volume and weight from volume (with --model's volume→weight fit)");
   cmd->add_flag("--json", *json, "print JSON instead of a table");
   cmd->callback([=] {
     if (!mesh_file->empty()) {
       Mesh m = read_obj(*mesh_file);
-      MeshMeasurements mm = measure_mesh(m, WeightFromVolume::paper(parse_sex(opts->sex)));
+      // The same volume → weight fit the model's avatars use, so a mesh exported by `caliper
+      // avatar` measures the weight its report gave.
+      const BodyModel model = load_model(opts->model, parse_sex(opts->sex));
+      MeshMeasurements mm = measure_mesh(m, model.data().weight_from_volume);
+      if (!(mm.stature >= 0.5 && mm.stature <= 2.5)) {
+        std::ostringstream msg;
+        msg << "the mesh is " << mm.stature << " m tall, outside the accepted stature range [50, 250] cm: OBJ meshes are "
+            << "read in metres (scale a file in centimetres by 0.01, in millimetres by 0.001)";
+        throw Error(ErrorKind::OutOfRange, msg.str(), "--mesh");
+      }
       if (*json) {
         nlohmann::ordered_json j = {{"stature_cm", mm.stature * 100}, {"volume_l", mm.volume * 1000}, {"weight_kg", mm.weight}};
         std::cout << j.dump(2) << "\n";
       } else {
         std::cout << std::fixed << std::setprecision(2) << "stature  " << mm.stature * 100 << " cm\nvolume   "
-                  << mm.volume * 1000 << " L\nweight   " << mm.weight << " kg (paper's " << opts->sex
-                  << " volume→weight fit)\n";
+                  << mm.volume * 1000 << " L\nweight   " << mm.weight << " kg (volume→weight fit of " << model.name()
+                  << ")\n";
       }
       return;
     }

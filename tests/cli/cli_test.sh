@@ -219,6 +219,15 @@ expect 0 "sessions list on a folder that does not exist" "$CALIPER" sessions lis
 says "there is no" "says so"
 expect 1 "and creates nothing" test -e "$TMP/typo"
 expect 3 "export from it" "$CALIPER" sessions export s-000000000000 --data "$TMP/typo"
+expect 0 "an avatar's mesh" "$CALIPER" avatar --height 165 --weight 60 -o "$TMP/her.obj" -q
+expect 0 "measured as a bare mesh" bash -c "'$CALIPER' measure --mesh '$TMP/her.obj' --json >'$TMP/mesh.json'"
+expect 0 "weighs what the avatar weighed (the model's fit)" node -e '
+  const m = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+  process.exit(Math.abs(m.weight_kg - 60) < 1 ? 0 : 1)' "$TMP/mesh.json"
+awk '/^v /{printf "v %f %f %f\n", $2*100, $3*100, $4*100; next} {print}' "$TMP/her.obj" >"$TMP/her-cm.obj"
+expect 3 "a mesh in centimetres" "$CALIPER" measure --mesh "$TMP/her-cm.obj"
+says "read in metres" "the message says which unit"
+expect 3 "render --mesh with a pose" "$CALIPER" render --mesh "$TMP/her.obj" --pose a -o "$TMP/r.png"
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]
