@@ -152,7 +152,10 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
     // Any other subset: "custom:stature,weight,chest_circumference" or the bare list.
     const std::string list = key.rfind("custom:", 0) == 0 ? key.substr(7) : key;
     inputs = split_list(list);
-    if (inputs.empty()) throw Error(ErrorKind::InvalidArgument, "unknown regressor '" + request.regressor + "'", "regressor");
+    if (inputs.empty())
+      throw Error(ErrorKind::InvalidArgument,
+                  "unknown regressor '" + request.regressor + "' (R2, R4, R5, R6, auto, map, or a comma list of measurements)",
+                  "regressor");
     std::sort(inputs.begin(), inputs.end());
     inputs.erase(std::unique(inputs.begin(), inputs.end()), inputs.end());
     key = "custom:";

@@ -138,7 +138,7 @@ void register_batch(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("batch", "Write one avatar and one JSON report per row of an ANSUR II-format CSV");
   cmd->add_option("--subjects", o->subjects, "CSV in the ANSUR II public format")->required();
   cmd->add_option("--out", *out, "output folder (created if missing)")->required();
-  cmd->add_option("--regressor", *regressor, "R2, R4, R5, R6 or auto")->capture_default_str();
+  cmd->add_option("--regressor", *regressor, "R2, R4, R5, R6, auto, map or a comma list of measurements")->capture_default_str();
   cmd->add_option("--format", *format, "glb or obj")->check(CLI::IsMember({"glb", "obj"}))->capture_default_str();
   cmd->add_option("--model", o->model, "body model family or path")->capture_default_str();
   cmd->callback([=] {

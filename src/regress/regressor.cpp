@@ -26,7 +26,7 @@ std::vector<std::string> preset_inputs(const std::string& preset) {
   if (p == "R4") return {"stature", "weight", "span", "crotch_height"};
   if (p == "R5") return {"stature", "weight", "span", "crotch_height", "hip_breadth"};
   if (p == "R6") return {"stature", "weight", "span", "crotch_height", "hip_breadth", "arm_length"};
-  throw Error(ErrorKind::InvalidArgument, "unknown regressor '" + preset + "' (R2, R4, R5, R6, auto)", "regressor");
+  throw Error(ErrorKind::InvalidArgument, "unknown regressor '" + preset + "' (R2, R4, R5, R6, auto, map, or a comma list of measurements)", "regressor");
 }
 
 std::string auto_preset(const std::vector<std::string>& known) {
