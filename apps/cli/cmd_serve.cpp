@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "caliper/capture/store.h"
+#include "capture_api.h"
 #include "common.h"
 #include "host_check.h"
 #include "server.h"
@@ -46,6 +47,20 @@ void register_serve(CLI::App& app) {
   cmd->callback([=] {
     if (opts->threads < 1 || opts->threads > 256)
       throw Error(ErrorKind::OutOfRange, "--threads must be in [1, 256]", "--threads");
+    // A default model or profiles file the server cannot use would otherwise fail every request
+    // that relies on it; checked with the code those requests use, keeping the error's kind.
+    try {
+      server::require_known_model(opts->api, opts->api.default_model);
+    } catch (const Error& e) {
+      throw Error(e.kind(), std::string("--model: ") + e.what(), "--model");
+    }
+    if (!opts->api.capture_profiles_file.empty()) {
+      try {
+        server::check_capture_profiles_file(opts->api.capture_profiles_file);
+      } catch (const Error& e) {
+        throw Error(e.kind(), std::string("--capture-profiles: ") + e.what(), "--capture-profiles");
+      }
+    }
     // The sessions database is checked now, so a corrupt or foreign file stops the start-up
     // with a clear message instead of failing every capture request.
     const std::string db = data_dir->empty() ? capture::SessionStore::default_path() : capture::SessionStore::path_in(*data_dir);

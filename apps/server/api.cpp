@@ -15,6 +15,7 @@
 
 #include "caliper/caliper.h"
 #include "capture_api.h"
+#include "json_body.h"
 
 namespace caliper::server {
 
@@ -139,18 +140,6 @@ struct BodyRequest {
   std::map<std::string, double> noise_sd_si;  // regressor "map": per-measurement SD overrides, SI
 };
 
-// Parses `text` as a JSON object; `what` names it in the 400 messages ("the request body").
-ordered_json parse_json_object(const std::string& text, const std::string& what) {
-  ordered_json j;
-  try {
-    j = ordered_json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    bad(what + " is not valid JSON: " + e.what(), "body");
-  }
-  if (!j.is_object()) bad(what + " must be a JSON object", "body");
-  return j;
-}
-
 ordered_json parse_json_body(const std::string& body) {
   if (body.empty()) bad("the request body is empty; send a JSON object", "body");
   return parse_json_object(body, "the request body");
@@ -184,10 +173,15 @@ std::map<std::string, double> parse_measurements(const ordered_json& m) {
 
 BodyRequest parse_body_request(const std::string& body, const std::string& default_model, bool allow_mesh_flag) {
   const ordered_json j = parse_json_body(body);
-  static const std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "mesh", "noise", "noise_sd"};
+  // The message lists exactly what this endpoint takes ("mesh" only on /api/avatar).
+  std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "noise", "noise_sd"};
+  if (allow_mesh_flag) known.insert(known.begin() + 4, "mesh");
   for (const auto& [key, value] : j.items())
-    if (std::find(known.begin(), known.end(), key) == known.end() || (key == "mesh" && !allow_mesh_flag))
-      bad("unknown field '" + key + "' (expected sex, model, regressor, measurements, noise, noise_sd)", key);
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      bad("unknown field '" + key + "' (expected " + list + ")", key);
+    }
   BodyRequest r;
   r.sex = parse_sex(string_field(j, "sex", "female"));
   r.model = string_field(j, "model", default_model);
@@ -373,6 +367,54 @@ std::string set_csv(const MeasurementSet& set) {
   return out;
 }
 
+std::string models_folder(const ApiOptions& options) {
+  return options.models_dir.empty() ? caliper::models_dir() : options.models_dir;
+}
+
+// Model families in the models folder: "mannequin-female.npz" … → "mannequin" with its sexes;
+// any other .npz file is a model of its own, usable with every sex (the sex then picks the
+// weight-from-volume coefficients). Only these names are accepted, never paths.
+std::map<std::string, std::vector<std::string>> model_families(const std::string& dir) {
+  std::map<std::string, std::vector<std::string>> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (e.path().extension() != ".npz") continue;
+    const std::string stem = e.path().stem().string();
+    bool family = false;
+    for (const char* sex : {"female", "male", "neutral"}) {
+      const std::string suffix = std::string("-") + sex;
+      if (stem.size() > suffix.size() && stem.compare(stem.size() - suffix.size(), suffix.size(), suffix) == 0) {
+        out[stem.substr(0, stem.size() - suffix.size())].push_back(sex);
+        family = true;
+      }
+    }
+    if (!family) out[stem] = {"female", "male", "neutral"};
+  }
+  for (auto& [name, sexes] : out) {
+    // female, male, neutral order whatever the directory order was.
+    std::vector<std::string> ordered;
+    for (const char* s : {"female", "male", "neutral"})
+      if (std::find(sexes.begin(), sexes.end(), s) != sexes.end()) ordered.push_back(s);
+    sexes = ordered;
+  }
+  return out;
+}
+
+// The sexes of `model`, or Error(InvalidArgument, field "model") listing the families found. A
+// library Error rather than a RequestError so `caliper serve --model` can report it too.
+const std::vector<std::string>& known_family(const std::map<std::string, std::vector<std::string>>& families,
+                                             const std::string& model) {
+  auto fam = families.find(model);
+  if (fam == families.end()) {
+    std::string names;
+    for (const auto& [n, s] : families) names += (names.empty() ? "" : ", ") + n;
+    throw Error(ErrorKind::InvalidArgument,
+                "unknown model '" + model + "' (available: " + (names.empty() ? "none — see docs/desktop-tool.md" : names) + ")",
+                "model");
+  }
+  return fam->second;
+}
+
 }  // namespace
 
 ApiResponse error_response(int status, const std::string& message, const std::string& field, const std::string& kind) {
@@ -400,47 +442,14 @@ struct Api::Impl {
   mutable std::mutex mutex;
   mutable std::map<std::string, std::shared_ptr<Entry>> entries;
 
-  std::string dir() const { return options.models_dir.empty() ? caliper::models_dir() : options.models_dir; }
-
-  // Model families in the models folder: "mannequin-female.npz" … → "mannequin" with its sexes;
-  // any other .npz file is a model of its own, usable with every sex (the sex then picks the
-  // weight-from-volume coefficients). Only these names are accepted, never paths.
-  std::map<std::string, std::vector<std::string>> families() const {
-    std::map<std::string, std::vector<std::string>> out;
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(dir(), ec)) {
-      if (e.path().extension() != ".npz") continue;
-      const std::string stem = e.path().stem().string();
-      bool family = false;
-      for (const char* sex : {"female", "male", "neutral"}) {
-        const std::string suffix = std::string("-") + sex;
-        if (stem.size() > suffix.size() && stem.compare(stem.size() - suffix.size(), suffix.size(), suffix) == 0) {
-          out[stem.substr(0, stem.size() - suffix.size())].push_back(sex);
-          family = true;
-        }
-      }
-      if (!family) out[stem] = {"female", "male", "neutral"};
-    }
-    for (auto& [name, sexes] : out) {
-      // female, male, neutral order whatever the directory order was.
-      std::vector<std::string> ordered;
-      for (const char* s : {"female", "male", "neutral"})
-        if (std::find(sexes.begin(), sexes.end(), s) != sexes.end()) ordered.push_back(s);
-      sexes = ordered;
-    }
-    return out;
-  }
+  std::string dir() const { return models_folder(options); }
+  std::map<std::string, std::vector<std::string>> families() const { return model_families(dir()); }
 
   std::shared_ptr<Entry> entry(const std::string& model, Sex sex) const {
     const std::string sex_text = to_string(sex);
-    const auto fams = families();
-    auto fam = fams.find(model);
-    if (fam == fams.end()) {
-      std::string names;
-      for (const auto& [n, s] : fams) names += (names.empty() ? "" : ", ") + n;
-      bad("unknown model '" + model + "' (available: " + (names.empty() ? "none — see docs/desktop-tool.md" : names) + ")", "model");
-    }
-    if (std::find(fam->second.begin(), fam->second.end(), sex_text) == fam->second.end())
+    const auto fams = model_families(dir());
+    const std::vector<std::string>& sexes = known_family(fams, model);
+    if (std::find(sexes.begin(), sexes.end(), sex_text) == sexes.end())
       bad("model '" + model + "' has no " + sex_text + " variant", "sex");
     std::shared_ptr<Entry> e;
     {
@@ -678,6 +687,10 @@ ApiResponse error_response_for_library_error(const Error& e, const std::string& 
     case ErrorKind::Io: return error_response(500, e.what(), e.field(), io_kind);
   }
   return error_response(500, e.what(), e.field(), "internal");
+}
+
+void require_known_model(const ApiOptions& options, const std::string& model) {
+  known_family(model_families(models_folder(options)), model);
 }
 
 Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) {

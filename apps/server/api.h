@@ -51,6 +51,11 @@ struct ApiOptions {
 
 // Routes /api/* requests. Thread-safe: one AvatarBuilder per (model, sex) is created on first use
 // and kept for the lifetime of the Api (regressors train once).
+// Throws Error(InvalidArgument, field "model"), naming the models found, unless `model` is a
+// family in the options' models folder: the check every request's model goes through, for
+// `caliper serve --model` to refuse a default no request could use.
+void require_known_model(const ApiOptions& options, const std::string& model);
+
 class Api {
  public:
   explicit Api(ApiOptions options = {});

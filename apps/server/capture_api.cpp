@@ -15,6 +15,7 @@
 #include "caliper/capture/service.h"
 #include "caliper/errors.h"
 #include "caliper/measure/catalogue.h"
+#include "json_body.h"
 
 namespace caliper::server {
 
@@ -50,14 +51,14 @@ ordered_json parse_object(const std::string& body, bool allow_empty) {
     if (allow_empty) return ordered_json::object();
     refuse(400, "the request body is empty; send a JSON object", "body");
   }
-  ordered_json j;
-  try {
-    j = ordered_json::parse(body);
-  } catch (const nlohmann::json::parse_error& e) {
-    refuse(400, std::string("the request body is not valid JSON: ") + e.what(), "body");
-  }
-  if (!j.is_object()) refuse(400, "the request body must be a JSON object", "body");
-  return j;
+  return parse_json_object(body, "the request body");
+}
+
+// The controller profiles the service uses: the built-in ones with the optional file merged in.
+ProfileRegistry load_profiles(const std::string& file) {
+  ProfileRegistry r = ProfileRegistry::builtin();
+  if (!file.empty()) r.merge_file(file);
+  return r;
 }
 
 void only_fields(const ordered_json& j, std::initializer_list<const char*> known) {
@@ -228,7 +229,7 @@ struct CaptureApi::Impl {
     if (!service_ptr) {
       CaptureServiceOptions o;
       o.database = options.database;
-      if (!options.profiles_file.empty()) o.profiles.merge_file(options.profiles_file);
+      o.profiles = load_profiles(options.profiles_file);
       try {
         service_ptr = std::make_unique<CaptureService>(std::move(o));
       } catch (const Error& e) {
@@ -400,6 +401,8 @@ struct CaptureApi::Impl {
     refuse(404, "no such endpoint: " + path + " (see docs/api.md)", "path", "not_found");
   }
 };
+
+void check_capture_profiles_file(const std::string& path) { load_profiles(path); }
 
 CaptureApi::CaptureApi(CaptureApiOptions options) : impl_(std::make_unique<Impl>()) { impl_->options = std::move(options); }
 CaptureApi::~CaptureApi() = default;

@@ -17,6 +17,9 @@ struct CaptureApiOptions {
 
 // True for the paths CaptureApi serves.
 bool is_capture_path(const std::string& path);
+// Loads a controller-profiles file as the capture endpoints will, for a start-up check. Throws the
+// library's Error: Io when unreadable, Format when not valid profiles JSON.
+void check_capture_profiles_file(const std::string& path);
 
 class CaptureApi {
  public:

@@ -292,6 +292,64 @@ TEST_F(ApiTest, BadRequestsAreRefusedWithJsonErrors) {
   expect_error(call("GET", "/api/topology", {}, {{"model", "toy"}, {"sex", "alien"}}), 400, "sex");
 }
 
+// nlohmann refuses 1e999 with an out_of_range exception, not a parse error; it is still the
+// client's mistake (400), on every endpoint that reads a JSON body.
+TEST_F(ApiTest, NumbersTooLargeForADoubleAreA400NamingTheBody) {
+  const std::string huge = R"({"sex":"female","measurements":{"stature":1e999,"weight":60}})";
+  for (const char* path : {"/api/avatar", "/api/export/glb", "/api/export/obj", "/api/export/report",
+                           "/api/measurement-set/import", "/api/measurement-set/export"}) {
+    json e = expect_error(call("POST", path, huge), 400, "body");
+    EXPECT_EQ(e["kind"], "invalid_argument") << path;
+    EXPECT_NE(e["message"].get<std::string>().find("a number in the request is too large"), std::string::npos) << path << ": " << e;
+  }
+  // A huge integer literal (no exponent) overflows the same way.
+  json e = expect_error(call("POST", "/api/measurement-set/import", "{\"stature\": 1" + std::string(400, '0') + "}"), 400, "body");
+  EXPECT_EQ(e["kind"], "invalid_argument");
+}
+
+// The list in the message is the fields the endpoint takes: mesh on /api/avatar, not on exports.
+TEST_F(ApiTest, UnknownFieldMessagesListWhatTheEndpointAccepts) {
+  json body = avatar_body(170, 60);
+  body["colour"] = "blue";
+  json e = expect_error(call("POST", "/api/avatar", body.dump()), 400, "colour");
+  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, mesh, noise, noise_sd"), std::string::npos) << e;
+  body = avatar_body(170, 60);
+  body["mesh"] = false;
+  EXPECT_EQ(call("POST", "/api/avatar", body.dump()).status, 200);
+  e = expect_error(call("POST", "/api/export/obj", body.dump()), 400, "mesh");
+  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd)"), std::string::npos) << e;
+}
+
+// docs/api.md: an invalid noise is refused whatever the regressor; a valid one only matters to map.
+TEST_F(ApiTest, InvalidNoiseIsRefusedEvenWhenTheRegressorIgnoresIt) {
+  json body = avatar_body(170, 60, "R2");
+  body["noise"] = "bogus";
+  expect_error(call("POST", "/api/avatar", body.dump()), 400, "noise");
+  body["noise"] = "other";
+  json a = post("/api/avatar", body);
+  body["noise"] = "exact";
+  json b = post("/api/avatar", body);
+  EXPECT_EQ(a["mesh"]["positions"], b["mesh"]["positions"]);
+}
+
+// `caliper serve --model` is checked with this before the server starts (cmd_serve.cpp).
+TEST_F(ApiTest, RequireKnownModelListsTheModelsFound) {
+  ApiOptions o;
+  o.models_dir = test::toy_models_dir();
+  EXPECT_NO_THROW(require_known_model(o, "toy"));
+  try {
+    require_known_model(o, "nope");
+    ADD_FAILURE() << "an unknown model was accepted";
+  } catch (const Error& err) {
+    EXPECT_EQ(err.kind(), ErrorKind::InvalidArgument);
+    EXPECT_EQ(err.field(), "model");
+    const std::string m = err.what();
+    EXPECT_NE(m.find("'nope'"), std::string::npos) << m;
+    EXPECT_NE(m.find("available: toy"), std::string::npos) << m;
+  }
+  EXPECT_THROW(require_known_model(o, "../models/toy-female"), Error);  // names only, never paths
+}
+
 TEST_F(ApiTest, ExportsAreTheFilesTheyClaimToBe) {
   const json body = avatar_body(168, 62);
   ApiResponse glb = call("POST", "/api/export/glb", body.dump());

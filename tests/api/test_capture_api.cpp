@@ -7,9 +7,13 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "api.h"
 #include "api_fixture.h"
+#include "capture_api.h"
 #include "caliper/capture/measurement_set.h"
 #include "caliper/errors.h"
 #include "caliper/capture/profiles.h"
@@ -266,6 +270,57 @@ TEST(CaptureApi, BadInputIsA4xxNamingTheField) {
   expect_error(call(api, "GET", "/api/sessions/" + id + "/samples"), 405, "method");
   // Nothing of the refused batches reached the session.
   EXPECT_EQ(body_of(call(api, "GET", "/api/sessions/" + id))["session"]["points"].size(), 0u);
+}
+
+TEST(CaptureApi, NumbersTooLargeForADoubleAreA400NamingTheBody) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = create(api);
+  for (const auto& [path, body] : std::vector<std::pair<std::string, std::string>>{
+           {"/api/sessions", R"({"weight_kg": 1e999})"},
+           {"/api/sessions/" + id + "/entries", R"({"weight_kg": -1e999})"},
+           {"/api/sessions/" + id + "/samples",
+            R"({"samples": [{"t": 1e999, "hand": "left", "position": [0, 1, 0], "orientation": [0, 0, 0, 1], "trigger": 0}]})"}}) {
+    const ApiResponse r = call(api, "POST", path, body, code);
+    expect_error(r, 400, "body");
+    const json e = body_of(r)["error"];
+    EXPECT_EQ(e["kind"], "invalid_argument") << path;
+    EXPECT_NE(e["message"].get<std::string>().find("a number in the request is too large"), std::string::npos) << e;
+  }
+}
+
+// `caliper serve --capture-profiles` is checked with this before the server starts, loading the
+// file as the endpoints do, so a bad file stops the start-up instead of failing requests later.
+TEST(CaptureApi, ProfilesFilesAreCheckedAsTheEndpointsLoadThem) {
+  TempDir dir;
+  test::write_file(dir / "good.json", R"({"profiles": {"test-pen": {"tip_offset_m": [0, 0, 0.1], "label": "Pen"}}})");
+  test::write_file(dir / "broken.json", "{not json");
+  test::write_file(dir / "far.json", R"({"profiles": {"test-pen": {"tip_offset_m": [0, 0, 2]}}})");
+  EXPECT_NO_THROW(check_capture_profiles_file(dir / "good.json"));
+  auto kind_of = [](const std::string& path) {
+    try {
+      check_capture_profiles_file(path);
+    } catch (const Error& e) {
+      return std::optional<ErrorKind>(e.kind());
+    }
+    return std::optional<ErrorKind>();
+  };
+  EXPECT_EQ(kind_of(dir / "missing.json"), ErrorKind::Io);
+  EXPECT_EQ(kind_of(dir / "broken.json"), ErrorKind::Format);
+  EXPECT_EQ(kind_of(dir / "far.json"), ErrorKind::Format);
+  // What the check accepted is what the endpoint serves.
+  ApiOptions o = options_for(dir / "s.db");
+  o.capture_profiles_file = dir / "good.json";
+  Api api(o);
+  const ApiResponse r = call(api, "GET", "/api/capture/profiles");
+  ASSERT_EQ(r.status, 200) << r.body;
+  EXPECT_EQ(body_of(r)["profiles"]["test-pen"]["label"], "Pen");
+  // And a file broken after start-up is still reported by the endpoint, as a database format error.
+  o.capture_profiles_file = dir / "broken.json";
+  Api broken(o);
+  const ApiResponse b = call(broken, "GET", "/api/capture/profiles");
+  EXPECT_EQ(b.status, 500);
+  EXPECT_EQ(body_of(b)["error"]["kind"], "database_format");
 }
 
 // The server process dies without closing anything: its Api is never destroyed (deliberately

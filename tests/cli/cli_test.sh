@@ -228,6 +228,12 @@ awk '/^v /{printf "v %f %f %f\n", $2*100, $3*100, $4*100; next} {print}' "$TMP/h
 expect 3 "a mesh in centimetres" "$CALIPER" measure --mesh "$TMP/her-cm.obj"
 says "read in metres" "the message says which unit"
 expect 3 "render --mesh with a pose" "$CALIPER" render --mesh "$TMP/her.obj" --pose a -o "$TMP/r.png"
+# serve refuses at start-up what would make every later request fail.
+expect 3 "serve with an unknown default model" "$CALIPER" serve --port 0 --no-warm-up --data "$TMP/srv" --model nope
+says "available: mannequin" "names the models found"
+printf '{' >"$TMP/broken-profiles.json"
+expect 4 "serve with a broken profiles file" "$CALIPER" serve --port 0 --no-warm-up --data "$TMP/srv" --capture-profiles "$TMP/broken-profiles.json"
+says "--capture-profiles" "names the option"
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

@@ -1,0 +1,25 @@
+#include "json_body.h"
+
+#include "caliper/errors.h"
+
+namespace caliper::server {
+
+nlohmann::ordered_json parse_json_object(const std::string& text, const std::string& what) {
+  nlohmann::ordered_json j;
+  try {
+    j = nlohmann::ordered_json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw Error(ErrorKind::InvalidArgument, what + " is not valid JSON: " + e.what(), "body");
+  } catch (const nlohmann::json::out_of_range&) {
+    // nlohmann's "number overflow" (e.g. 1e999): the client's mistake, but the parser does not
+    // say where, so the field can only be the body.
+    throw Error(ErrorKind::InvalidArgument,
+                "a number in the request is too large (beyond ±1.8e308, the largest a double holds); "
+                "check every value in " + what,
+                "body");
+  }
+  if (!j.is_object()) throw Error(ErrorKind::InvalidArgument, what + " must be a JSON object", "body");
+  return j;
+}
+
+}  // namespace caliper::server
