@@ -1,4 +1,5 @@
 // `caliper avatar` and `caliper render`: build an avatar from measurements and write it out.
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 
@@ -52,6 +53,13 @@ void register_avatar(CLI::App& app) {
   cmd->callback([=] {
     if (!ends_with(*output, ".glb") && !ends_with(*output, ".obj"))
       throw Error(ErrorKind::InvalidArgument, "--output must end in .glb or .obj, got '" + *output + "'", "--output");
+    // Both files' folders are checked first, so a bad --report does not leave a lone mesh behind.
+    for (const auto& [path, option] : {std::pair{*output, "--output"}, std::pair{*report, "--report"}}) {
+      const auto folder = std::filesystem::path(path).parent_path();
+      std::error_code ec;
+      if (!path.empty() && !folder.empty() && !std::filesystem::is_directory(folder, ec))
+        throw Error(ErrorKind::Io, std::string(option) + ": there is no folder '" + folder.string() + "'", option);
+    }
     BuiltAvatar built = build_avatar(*opts);
     if (ends_with(*output, ".glb")) {
       // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
@@ -80,7 +88,7 @@ void register_render(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("render", "Render an avatar (or an OBJ mesh) to a PNG picture, several views side by side");
   add_body_options(*cmd, *opts, true);
   cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
-  cmd->add_option("-o,--output", *output, "output PNG file")->required();
+  cmd->add_option("-o,--output", *output, "output PNG file (.png)")->required();
   cmd->add_option("--views", *views, "views: front, side, back, three-quarter")->delimiter(',')->capture_default_str();
   cmd->add_option("--pose", *pose,
                   "t (rest pose, arms horizontal), a (arms lowered 45°) or stride (mid-stride, knees and elbows bent); "
@@ -92,6 +100,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("--image-width", *width, "width of each view in pixels (64–4096)")->capture_default_str();
   cmd->add_option("--image-height", *height, "height of each view in pixels (64–4096)")->capture_default_str();
   cmd->callback([=] {
+    if (!ends_with(*output, ".png"))
+      throw Error(ErrorKind::InvalidArgument, "--output must end in .png (the picture is a PNG), got '" + *output + "'", "--output");
     if (*width < 64 || *width > 4096) throw Error(ErrorKind::OutOfRange, "--image-width must be in [64, 4096]", "--image-width");
     if (*height < 64 || *height > 4096) throw Error(ErrorKind::OutOfRange, "--image-height must be in [64, 4096]", "--image-height");
     std::vector<View> vs;

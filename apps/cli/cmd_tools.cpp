@@ -204,7 +204,9 @@ void register_isak(CLI::App& app) {
   auto values = std::make_shared<std::vector<double>>();
   CLI::App* cmd = app.add_subcommand("isak",
       "Combine repeated measurements by the ISAK rule: two within 1.5 % → their mean, else the median of three");
-  cmd->add_option("values", *values, "2 or 3 repetitions of one measurement (any unit)")->required()->expected(2, 3);
+  cmd->add_option("values", *values, "2 or 3 repetitions of one measurement (any unit)")
+      ->required()
+      ->expected(2, 3);
   cmd->callback([=] {
     IsakResult r = isak_combine(*values);
     std::cout << std::fixed << std::setprecision(3) << "difference of the first two: " << r.relative_difference * 100 << " %\n";

@@ -50,7 +50,10 @@ double to_edge(const MeasurementInfo& info, double v, const std::string& unit_te
     if (unit == "m") return v * 100;
     if (unit == "in" || unit == "inch") return v * 2.54;
   }
-  throw Error(ErrorKind::Format, where + ": unit '" + unit_text + "' does not fit " + info.name + " (use " + edge_unit(info) + ")", info.name);
+  throw Error(ErrorKind::Format,
+              where + ": unit '" + unit_text + "' does not fit " + info.name +
+                  (info.unit == Unit::Kilogram ? " (use kg, g or lb)" : " (use cm, mm, m or in)"),
+              info.name);
 }
 
 void add(MeasurementSetFile& set, const std::string& name, double v, const std::string& unit, const std::string& where) {
