@@ -202,7 +202,7 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
       const MeasurementInfo* info = find_measurement_info(name);
       if (!info) bad("unknown measurement '" + name + "' in noise_sd", name);
       if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() <= 0 || value.get<double>() > 50)
-        throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be a number in (0, 50] " + edge_unit(*info), info->name);
+        throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be a number in (0, 50] " + edge_unit(*info), "noise_sd." + info->name);
       r.noise_sd_si[info->name] = info->unit == Unit::Kilogram ? value.get<double>() : value.get<double>() / 100.0;
     }
   }

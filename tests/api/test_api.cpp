@@ -218,7 +218,10 @@ TEST_F(ApiTest, MapRefusesBadNoiseSettings) {
   expect_error(call("POST", "/api/avatar", body.dump()), 400, "noise");
   body["noise"] = "self";
   body["noise_sd"] = {{"stature", -1}};
-  expect_error(call("POST", "/api/avatar", body.dump()), 400, "stature");
+  // The field is the SD, not stature itself: no accepted range of statures beside a message
+  // about SDs.
+  const json e = expect_error(call("POST", "/api/avatar", body.dump()), 400, "noise_sd.stature");
+  EXPECT_TRUE(e["accepted_range"].is_null()) << e.dump();
   body["noise_sd"] = {{"chest_circumference", 2}};  // a SD for a value that was not given
   expect_error(call("POST", "/api/avatar", body.dump()), 400, "chest_circumference");
   body["noise_sd"] = json::array({1});
