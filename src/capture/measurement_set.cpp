@@ -79,8 +79,14 @@ MeasurementSetFile parse_json(const std::string& text) {
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw Error(ErrorKind::Format, std::string("measurement set: not valid JSON: ") + e.what(), "measurements");
+  } catch (const nlohmann::json::out_of_range&) {
+    throw Error(ErrorKind::Format, "measurement set: a number is too large (beyond ±1.8e308)", "measurements");
   }
   if (!j.is_object()) throw Error(ErrorKind::Format, "measurement set: expected a JSON object", "measurements");
+  // A newer writer may mean something this reader does not know: refuse rather than guess.
+  if (j.contains("version") && !(j["version"].is_number_integer() && j["version"].get<long long>() == 1))
+    throw Error(ErrorKind::Format, "measurement set: version " + j["version"].dump() + " is not one this Caliper reads (1)",
+                "version");
   MeasurementSetFile set;
   if (j.contains("sex") && j["sex"].is_string()) set.sex = sex_of(j["sex"].get<std::string>(), "sex");
   const bool nested = j.contains("measurements");
@@ -166,7 +172,8 @@ std::string write_measurement_set_csv(const MeasurementSetFile& set) {
 MeasurementSetFile parse_measurement_set(const std::string& text) {
   const size_t a = text.find_first_not_of(" \t\r\n");
   if (a == std::string::npos) throw Error(ErrorKind::Format, "the measurement set is empty", "measurements");
-  MeasurementSetFile set = text[a] == '{' ? parse_json(text) : parse_csv(text);
+  // JSON if it looks like JSON (an array, too, gets the JSON reader's clear refusal), else CSV.
+  MeasurementSetFile set = text[a] == '{' || text[a] == '[' ? parse_json(text) : parse_csv(text);
   if (set.edge.empty()) throw Error(ErrorKind::Format, "the measurement set has no measurements", "measurements");
   return set;
 }

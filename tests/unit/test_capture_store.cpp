@@ -300,6 +300,14 @@ TEST(MeasurementSetFile, RoundTripsJsonAndCsvAndChecksValues) {
   }
   EXPECT_THROW(parse_measurement_set("stature,abc\n"), Error);
   EXPECT_THROW(parse_measurement_set("{\"sex\": \"robot\", \"measurements\": {\"stature\": 170}}"), Error);
+  EXPECT_THROW(parse_measurement_set("{\"version\": 99, \"measurements\": {\"stature\": 170}}"), Error);
+  EXPECT_THROW(parse_measurement_set("{\"measurements\": {\"stature\": 1e999}}"), Error);
+  try {
+    parse_measurement_set("[1, 2, 3]");
+    FAIL() << "a JSON array was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("expected a JSON object"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(parse_measurement_set("{\"measurements\": {}}"), Error);
   EXPECT_THROW(parse_measurement_set("{\"measurements\": {\"elbow_wobble\": 3}}"), Error);
 }
