@@ -22,6 +22,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // CLI11 says only "A subcommand is required" for a mistyped one: name it.
+    if (dynamic_cast<const CLI::RequiredError*>(&e) && argc > 1 && argv[1][0] != '-' && !app.get_subcommands().size()) {
+      std::cerr << "caliper: unknown command '" << argv[1] << "'; the commands are listed by `caliper --help`\n";
+      return caliper::cli::kUsage;
+    }
     const int code = app.exit(e);
     return code == 0 ? 0 : caliper::cli::kUsage;
   } catch (const caliper::Error& e) {

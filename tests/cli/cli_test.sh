@@ -228,6 +228,8 @@ awk '/^v /{printf "v %f %f %f\n", $2*100, $3*100, $4*100; next} {print}' "$TMP/h
 expect 3 "a mesh in centimetres" "$CALIPER" measure --mesh "$TMP/her-cm.obj"
 says "read in metres" "the message says which unit"
 expect 3 "render --mesh with a pose" "$CALIPER" render --mesh "$TMP/her.obj" --pose a -o "$TMP/r.png"
+expect 2 "a mistyped command" "$CALIPER" avatr --height 170
+says "unknown command 'avatr'" "is named"
 expect 3 "render to a .jpg name" "$CALIPER" render --height 170 --weight 60 -o "$TMP/r.jpg"
 expect 4 "a report into a missing folder" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/lone.glb" --report "$TMP/none/r.json"
 expect 1 "leaves no mesh behind" test -e "$TMP/lone.glb"
