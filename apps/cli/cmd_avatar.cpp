@@ -36,6 +36,17 @@ void print_summary(const BuiltAvatar& built, std::ostream& os) {
     if (auto u = a.uncertainty.find(name); u != a.uncertainty.end()) os << std::setw(9) << u->second * scale;
     os << "\n";
   }
+  // A value measured on a person can differ from the same measurement on the T-posed avatar
+  // (arm length, paper §3.3): say what the avatar was asked for, or the table reads as a miss.
+  for (const auto& [name, target] : a.targets) {
+    auto req = a.requested.find(name);
+    if (req == a.requested.end() || std::abs(req->second - target) < 1e-9) continue;
+    const MeasurementInfo* info = find_measurement_info(name);
+    const double scale = info && info->unit == Unit::Kilogram ? 1.0 : 100.0;
+    const std::string unit = info ? edge_unit(*info) : "cm";
+    os << "note: " << name << " " << std::fixed << std::setprecision(2) << req->second * scale << " " << unit
+       << " on a person is " << target * scale << " " << unit << " on the avatar in its rest pose (real → virtual map, paper §3.3)\n";
+  }
 }
 
 }  // namespace

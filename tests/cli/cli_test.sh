@@ -228,6 +228,8 @@ awk '/^v /{printf "v %f %f %f\n", $2*100, $3*100, $4*100; next} {print}' "$TMP/h
 expect 3 "a mesh in centimetres" "$CALIPER" measure --mesh "$TMP/her-cm.obj"
 says "read in metres" "the message says which unit"
 expect 3 "render --mesh with a pose" "$CALIPER" render --mesh "$TMP/her.obj" --pose a -o "$TMP/r.png"
+expect 0 "R6 with an arm length" "$CALIPER" avatar --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 --arm-length 58 -o "$TMP/r6.obj"
+says "arm_length 58.00 cm on a person is" "the table says what the avatar was asked for"
 expect 2 "a mistyped command" "$CALIPER" avatr --height 170
 says "unknown command 'avatr'" "is named"
 expect 3 "render to a .jpg name" "$CALIPER" render --height 170 --weight 60 -o "$TMP/r.jpg"
