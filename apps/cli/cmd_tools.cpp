@@ -129,8 +129,11 @@ void register_model(CLI::App& app) {
     const Sex model_sex = parse_sex(*build_sex);
     if (*kind == "makehuman" && assets->empty())
       throw Error(ErrorKind::InvalidArgument, "makehuman needs --assets DIR (a MakeHuman assets folder)", "--assets");
-    std::vector<AnsurSubject> subjects;
     namespace fs = std::filesystem;
+    // Checked before the (slower) ANSUR read, so a wrong folder is reported at once.
+    if (*kind == "makehuman" && !fs::is_directory(*assets))
+      throw Error(ErrorKind::Io, "--assets '" + *assets + "' is not a folder (MakeHuman assets in MPFB2 layout)", "--assets");
+    std::vector<AnsurSubject> subjects;
     std::vector<std::string> files;
     if (fs::is_directory(*ansur)) {
       for (const auto& e : fs::directory_iterator(*ansur))
