@@ -189,13 +189,13 @@ void AvatarBuilder::warn_about_inputs(Avatar& avatar) const {
     const auto got = avatar.achieved.find(name);
     if (target == avatar.targets.end() || got == avatar.achieved.end()) continue;
     const MeasurementInfo* info = find_measurement_info(name);
-    const bool kg = info && info->unit == Unit::Kilogram;
+    if (!info) continue;
+    const bool kg = info->unit == Unit::Kilogram;
     const double tolerance = std::max(kg ? 2.0 : 0.01, 0.03 * std::abs(target->second));  // 2 kg or 1 cm, 3 %
     if (std::abs(got->second - target->second) <= tolerance) continue;
     std::ostringstream msg;
-    const double scale = kg ? 1.0 : 100.0;
-    msg << std::fixed << std::setprecision(1) << name << ": the body reaches " << got->second * scale << " "
-        << (kg ? "kg" : "cm") << ", not the " << target->second * scale << " " << (kg ? "kg" : "cm")
+    msg << std::fixed << std::setprecision(1) << name << ": the body reaches " << si_to_edge(*info, got->second) << " "
+        << edge_unit(*info) << ", not the " << si_to_edge(*info, target->second) << " " << edge_unit(*info)
         << " asked: these values together lie outside what the model can represent";
     avatar.warnings.push_back(msg.str());
   }

@@ -21,19 +21,22 @@ void print_summary(const BuiltAvatar& built, std::ostream& os) {
   const Avatar& a = built.avatar;
   os << "model " << built.model->name() << ", regressor " << a.regressor << ", shape "
      << to_string(a.plausibility.overall) << " (" << a.plausibility.explanation << ")\n";
+  // A value in the catalogue's edge unit (cm or kg) and that unit's name.
+  auto edge = [](const std::string& name, double si) -> std::pair<double, std::string> {
+    const MeasurementInfo* info = find_measurement_info(name);
+    return info ? std::pair{si_to_edge(*info, si), std::string(edge_unit(*info))} : std::pair{si * 100, std::string("cm")};
+  };
   const bool sd = !a.uncertainty.empty();
   os << std::left << std::setw(26) << "measurement" << std::right << std::setw(12) << "requested" << std::setw(12)
      << "achieved" << (sd ? "     ± SD" : "") << "\n";
   for (const auto& [name, achieved] : a.achieved) {
-    const MeasurementInfo* info = find_measurement_info(name);
-    const double scale = info && info->unit == Unit::Kilogram ? 1.0 : 100.0;
-    const std::string unit = info ? edge_unit(*info) : "cm";
+    const auto [value, unit] = edge(name, achieved);
     os << std::left << std::setw(26) << name << std::right << std::fixed << std::setprecision(2);
     auto req = a.requested.find(name);
-    if (req != a.requested.end()) os << std::setw(9) << req->second * scale << " " << unit;
+    if (req != a.requested.end()) os << std::setw(9) << edge(name, req->second).first << " " << unit;
     else os << std::setw(12) << "";
-    os << std::setw(9) << achieved * scale << " " << unit;
-    if (auto u = a.uncertainty.find(name); u != a.uncertainty.end()) os << std::setw(9) << u->second * scale;
+    os << std::setw(9) << value << " " << unit;
+    if (auto u = a.uncertainty.find(name); u != a.uncertainty.end()) os << std::setw(9) << edge(name, u->second).first;
     os << "\n";
   }
   // A value measured on a person can differ from the same measurement on the T-posed avatar
@@ -41,11 +44,9 @@ void print_summary(const BuiltAvatar& built, std::ostream& os) {
   for (const auto& [name, target] : a.targets) {
     auto req = a.requested.find(name);
     if (req == a.requested.end() || std::abs(req->second - target) < 1e-9) continue;
-    const MeasurementInfo* info = find_measurement_info(name);
-    const double scale = info && info->unit == Unit::Kilogram ? 1.0 : 100.0;
-    const std::string unit = info ? edge_unit(*info) : "cm";
-    os << "note: " << name << " " << std::fixed << std::setprecision(2) << req->second * scale << " " << unit
-       << " on a person is " << target * scale << " " << unit << " on the avatar in its rest pose (real → virtual map, paper §3.3)\n";
+    const auto [asked, unit] = edge(name, req->second);
+    os << "note: " << name << " " << std::fixed << std::setprecision(2) << asked << " " << unit << " on a person is "
+       << edge(name, target).first << " " << unit << " on the avatar in its rest pose (real → virtual map, paper §3.3)\n";
   }
 }
 

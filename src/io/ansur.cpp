@@ -33,13 +33,15 @@ std::vector<std::string> split(const std::string& line) {
   }
   return out;
 }
+// The six Virtual Caliper inputs and the ANSUR columns whose sum each one is.
+const std::pair<const char*, std::vector<const char*>> kInputColumns[] = {
+    {"stature", {"stature"}},           {"weight", {"weightkg"}},        {"span", {"span"}},
+    {"crotch_height", {"crotchheight"}}, {"hip_breadth", {"hipbreadth"}}, {"arm_length", {"acromionradialelength", "radialestylionlength"}}};
+
 // The Virtual Caliper inputs a row provides, each within the catalogue's accepted range: a file
 // in centimetres instead of ANSUR's millimetres would otherwise give 17 cm avatars without a word.
 void check_inputs(const AnsurSubject& s, const std::string& where) {
-  const std::pair<const char*, std::vector<const char*>> inputs[] = {
-      {"stature", {"stature"}}, {"weight", {"weightkg"}}, {"span", {"span"}}, {"crotch_height", {"crotchheight"}},
-      {"hip_breadth", {"hipbreadth"}}, {"arm_length", {"acromionradialelength", "radialestylionlength"}}};
-  for (const auto& [name, columns] : inputs) {
+  for (const auto& [name, columns] : kInputColumns) {
     double si = 0;
     bool present = true;
     for (const char* c : columns) {
@@ -126,17 +128,14 @@ std::vector<AnsurSubject> read_ansur_csv(const std::string& path) {
 }
 
 std::map<std::string, double> virtual_caliper_inputs(const AnsurSubject& s) {
-  auto get = [&](const char* c) {
-    auto it = s.values.find(c);
-    if (it == s.values.end()) throw Error(ErrorKind::Format, std::string("subject ") + s.id + " has no '" + c + "'", c);
-    return it->second;
-  };
-  return {{"stature", get("stature")},
-          {"weight", get("weightkg")},
-          {"span", get("span")},
-          {"crotch_height", get("crotchheight")},
-          {"hip_breadth", get("hipbreadth")},
-          {"arm_length", get("acromionradialelength") + get("radialestylionlength")}};
+  std::map<std::string, double> out;
+  for (const auto& [name, columns] : kInputColumns)
+    for (const char* c : columns) {
+      auto it = s.values.find(c);
+      if (it == s.values.end()) throw Error(ErrorKind::Format, std::string("subject ") + s.id + " has no '" + c + "'", c);
+      out[name] += it->second;
+    }
+  return out;
 }
 
 }  // namespace caliper
