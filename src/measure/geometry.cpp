@@ -25,9 +25,9 @@ double signed_volume(const Vertices& vertices, const Faces& faces) {
   return six_volume / 6.0;
 }
 
-std::vector<std::vector<Eigen::Vector3d>> plane_section(const Vertices& vertices, const Faces& faces,
-                                                        const Eigen::Vector3d& point,
-                                                        const Eigen::Vector3d& normal) {
+std::vector<std::vector<SectionPoint>> plane_section_points(const Vertices& vertices, const Faces& faces,
+                                                            const Eigen::Vector3d& point,
+                                                            const Eigen::Vector3d& normal) {
   const Eigen::Vector3d n = normal.normalized();
   // Signed distances; vertices exactly on the plane are nudged to one side so every crossing is
   // an edge crossing and loops stay well-formed (a landmark vertex often lies on the plane).
@@ -77,16 +77,19 @@ std::vector<std::vector<Eigen::Vector3d>> plane_section(const Vertices& vertices
     link(ib, ia);
   }
   auto crossing = [&](std::uint64_t key) {
-    const Eigen::Index a = static_cast<Eigen::Index>(key >> 32), b = static_cast<Eigen::Index>(key & 0xffffffffu);
-    const double da = d[static_cast<size_t>(a)], db = d[static_cast<size_t>(b)];
-    const double t = da / (da - db);
-    return Eigen::Vector3d(vertices.row(a).transpose() + t * (vertices.row(b) - vertices.row(a)).transpose());
+    SectionPoint s;
+    s.a = static_cast<int>(key >> 32);
+    s.b = static_cast<int>(key & 0xffffffffu);
+    const double da = d[static_cast<size_t>(s.a)], db = d[static_cast<size_t>(s.b)];
+    s.t = da / (da - db);
+    s.q = vertices.row(s.a).transpose() + s.t * (vertices.row(s.b) - vertices.row(s.a)).transpose();
+    return s;
   };
-  std::vector<std::vector<Eigen::Vector3d>> loops;
+  std::vector<std::vector<SectionPoint>> loops;
   std::vector<char> visited(edges.size(), 0);
   for (size_t start = 0; start < edges.size(); ++start) {
     if (visited[start]) continue;
-    std::vector<Eigen::Vector3d> loop;
+    std::vector<SectionPoint> loop;
     size_t prev = kNone, cur = start;
     while (cur != kNone && !visited[cur]) {
       visited[cur] = 1;
@@ -100,28 +103,47 @@ std::vector<std::vector<Eigen::Vector3d>> plane_section(const Vertices& vertices
   return loops;
 }
 
-double convex_hull_perimeter(const std::vector<Eigen::Vector2d>& input) {
-  if (input.size() < 2) return 0;
-  std::vector<Eigen::Vector2d> p = input;
-  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Eigen::Vector2d> hull(2 * p.size());
-  size_t k = 0;
-  for (size_t i = 0; i < p.size(); ++i) {  // lower hull
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
+std::vector<std::vector<Eigen::Vector3d>> plane_section(const Vertices& vertices, const Faces& faces,
+                                                        const Eigen::Vector3d& point,
+                                                        const Eigen::Vector3d& normal) {
+  std::vector<std::vector<Eigen::Vector3d>> loops;
+  for (const auto& crossings : plane_section_points(vertices, faces, point, normal)) {
+    auto& loop = loops.emplace_back();
+    loop.reserve(crossings.size());
+    for (const auto& s : crossings) loop.push_back(s.q);
   }
-  for (size_t i = p.size() - 1, t = k + 1; i-- > 0;) {  // upper hull
-    while (k >= t && cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
+  return loops;
+}
+
+std::vector<size_t> convex_hull(const std::vector<Eigen::Vector2d>& p) {
+  if (p.size() < 2) return std::vector<size_t>(p.size(), 0);
+  std::vector<size_t> order(p.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t i, size_t j) {
+    return p[i].x() < p[j].x() || (p[i].x() == p[j].x() && p[i].y() < p[j].y());
+  });
+  auto cross = [&](size_t o, size_t a, size_t b) {
+    return (p[a].x() - p[o].x()) * (p[b].y() - p[o].y()) - (p[a].y() - p[o].y()) * (p[b].x() - p[o].x());
+  };
+  std::vector<size_t> hull(2 * p.size());
+  size_t k = 0;
+  for (size_t i = 0; i < order.size(); ++i) {  // lower hull
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], order[i]) <= 0) --k;
+    hull[k++] = order[i];
+  }
+  for (size_t i = order.size() - 1, t = k + 1; i-- > 0;) {  // upper hull
+    while (k >= t && cross(hull[k - 2], hull[k - 1], order[i]) <= 0) --k;
+    hull[k++] = order[i];
   }
   hull.resize(k - 1);
+  return hull;
+}
+
+double convex_hull_perimeter(const std::vector<Eigen::Vector2d>& points) {
+  if (points.size() < 2) return 0;
+  const std::vector<size_t> hull = convex_hull(points);
   double perimeter = 0;
-  for (size_t i = 0; i < hull.size(); ++i) perimeter += (hull[(i + 1) % hull.size()] - hull[i]).norm();
+  for (size_t i = 0; i < hull.size(); ++i) perimeter += (points[hull[(i + 1) % hull.size()]] - points[hull[i]]).norm();
   return perimeter;
 }
 

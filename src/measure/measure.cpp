@@ -2,6 +2,7 @@
 // distances, plane sections for breadths, depths and tape circumferences, weight from volume.
 #include "caliper/measure/measure.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
 
@@ -21,17 +22,17 @@ Eigen::Vector3d axis_vector(Axis a) {
 
 // The section loop nearest the landmark: a horizontal cut at the thigh also cuts the other leg,
 // a cut across an arm may catch the hand; the landmark says which one is meant.
-std::vector<Eigen::Vector3d> nearest_loop(const BodyModel& model, const MeasurementDefinition& def,
-                                          const Vertices& rest, const Faces& faces) {
+std::vector<SectionPoint> nearest_loop(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
+                                       const Faces& faces) {
   if (def.landmarks.empty())
     throw Error(ErrorKind::Format, "measurement '" + def.name + "' needs a landmark", def.name);
   const Eigen::Vector3d p = rest.row(model.landmark(def.landmarks[0])).transpose();
-  auto loops = plane_section(rest, faces, p, axis_vector(def.plane_normal));
+  auto loops = plane_section_points(rest, faces, p, axis_vector(def.plane_normal));
   double best = std::numeric_limits<double>::infinity();
   size_t best_index = loops.size();
   for (size_t i = 0; i < loops.size(); ++i)
-    for (const auto& q : loops[i]) {
-      const double dist = (q - p).squaredNorm();
+    for (const auto& s : loops[i]) {
+      const double dist = (s.q - p).squaredNorm();
       if (dist < best) { best = dist; best_index = i; }
     }
   if (best_index == loops.size())
@@ -41,30 +42,20 @@ std::vector<Eigen::Vector3d> nearest_loop(const BodyModel& model, const Measurem
 }
 
 // In-plane coordinates: the two axes other than the plane normal, in x, y, z order.
-Eigen::Vector2d in_plane(const Eigen::Vector3d& q, Axis normal) {
+std::pair<int, int> in_plane_axes(Axis normal) {
   switch (normal) {
-    case Axis::X: return {q.y(), q.z()};
-    case Axis::Y: return {q.x(), q.z()};
-    case Axis::Z: return {q.x(), q.y()};
+    case Axis::X: return {1, 2};
+    case Axis::Y: return {0, 2};
+    case Axis::Z: return {0, 1};
   }
-  return {q.x(), q.z()};
+  return {0, 2};
 }
 
-double extent(const std::vector<Eigen::Vector3d>& loop, int axis) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const auto& q : loop) { lo = std::min(lo, q(axis)); hi = std::max(hi, q(axis)); }
-  return hi - lo;
-}
+using SectionLoop = std::vector<SectionPoint>;
+using SectionCache = std::map<std::pair<std::string, Axis>, SectionLoop>;
 
-}  // namespace
-
-namespace {
-
-using SectionCache = std::map<std::pair<std::string, Axis>, std::vector<Eigen::Vector3d>>;
-
-const std::vector<Eigen::Vector3d>& cached_loop(const BodyModel& model, const MeasurementDefinition& def,
-                                                const Vertices& rest, const Faces& faces, SectionCache* cache,
-                                                std::vector<Eigen::Vector3d>& own) {
+const SectionLoop& cached_loop(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
+                               const Faces& faces, SectionCache* cache, SectionLoop& own) {
   if (!cache) return own = nearest_loop(model, def, rest, faces);
   const auto key = std::make_pair(def.landmarks.empty() ? std::string() : def.landmarks[0], def.plane_normal);
   auto it = cache->find(key);
@@ -72,34 +63,113 @@ const std::vector<Eigen::Vector3d>& cached_loop(const BodyModel& model, const Me
   return it->second;
 }
 
+// Chain rule through a section point q = v_a + t(v_b − v_a), t = d_a / (d_a − d_b), d = n·v − n·p:
+// a change of ∂F/∂q = g moves F through both edge ends and, by moving the plane, the landmark p.
+void add_section_point_gradient(const SectionPoint& s, const Eigen::Vector3d& g, const Eigen::Vector3d& n,
+                                int landmark, const Vertices& rest, std::vector<GradientTerm>& terms) {
+  const Eigen::Vector3d va = rest.row(s.a).transpose(), vb = rest.row(s.b).transpose();
+  const double c = n.dot(rest.row(landmark).transpose());
+  const double da = n.dot(va) - c, db = n.dot(vb) - c, denom = da - db;
+  if (denom == 0) return;  // an edge within the plane: the point does not move with it
+  const double ge = g.dot(vb - va);
+  terms.push_back({s.a, (1 - s.t) * g - n * (ge * db / (denom * denom))});
+  terms.push_back({s.b, s.t * g + n * (ge * da / (denom * denom))});
+  terms.push_back({landmark, -n * (ge / denom)});
+}
+
+// The value of `def` on `rest`; with `gradient`, also ∂value/∂v as sparse terms (exact wherever
+// the value is differentiable; at a tie the extreme point found first).
 double measure_with(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
-                    const Faces& section_faces, SectionCache* cache) {
-  std::vector<Eigen::Vector3d> own;
+                    const Faces& section_faces, SectionCache* cache, std::vector<GradientTerm>* gradient) {
+  SectionLoop own;
   switch (def.kind) {
     case MeasurementKind::Height: {
       if (def.landmarks.empty()) throw Error(ErrorKind::Format, "height '" + def.name + "' needs a landmark", def.name);
-      const double floor = rest.col(1).minCoeff();
-      return rest(model.landmark(def.landmarks[0]), 1) - floor;
+      Eigen::Index lowest = 0;
+      const double floor = rest.col(1).minCoeff(&lowest);
+      const int top = model.landmark(def.landmarks[0]);
+      if (gradient) {
+        gradient->push_back({top, Eigen::Vector3d::UnitY()});
+        gradient->push_back({static_cast<int>(lowest), -Eigen::Vector3d::UnitY()});
+      }
+      return rest(top, 1) - floor;
     }
     case MeasurementKind::Length: {
       if (def.landmarks.size() < 2)
         throw Error(ErrorKind::Format, "length '" + def.name + "' needs at least two landmarks", def.name);
       double total = 0;
-      for (size_t i = 1; i < def.landmarks.size(); ++i)
-        total += (rest.row(model.landmark(def.landmarks[i])) - rest.row(model.landmark(def.landmarks[i - 1]))).norm();
+      for (size_t i = 1; i < def.landmarks.size(); ++i) {
+        const int from = model.landmark(def.landmarks[i - 1]), to = model.landmark(def.landmarks[i]);
+        const Eigen::Vector3d d = (rest.row(to) - rest.row(from)).transpose();
+        const double length = d.norm();
+        total += length;
+        if (gradient && length > 0) {
+          gradient->push_back({to, d / length});
+          gradient->push_back({from, -d / length});
+        }
+      }
       return total;
     }
-    case MeasurementKind::Breadth: return extent(cached_loop(model, def, rest, section_faces, cache, own), 0);
-    case MeasurementKind::Depth: return extent(cached_loop(model, def, rest, section_faces, cache, own), 2);
+    case MeasurementKind::Breadth:
+    case MeasurementKind::Depth: {
+      const SectionLoop& loop = cached_loop(model, def, rest, section_faces, cache, own);
+      const int axis = def.kind == MeasurementKind::Breadth ? 0 : 2;
+      size_t lo = 0, hi = 0;
+      for (size_t i = 1; i < loop.size(); ++i) {
+        if (loop[i].q(axis) < loop[lo].q(axis)) lo = i;
+        if (loop[i].q(axis) > loop[hi].q(axis)) hi = i;
+      }
+      if (gradient) {
+        const Eigen::Vector3d n = axis_vector(def.plane_normal), e = axis_vector(static_cast<Axis>(axis));
+        const int landmark = model.landmark(def.landmarks[0]);
+        add_section_point_gradient(loop[hi], e, n, landmark, rest, *gradient);
+        add_section_point_gradient(loop[lo], -e, n, landmark, rest, *gradient);
+      }
+      return loop[hi].q(axis) - loop[lo].q(axis);
+    }
     case MeasurementKind::Circumference: {
-      const auto& loop = cached_loop(model, def, rest, section_faces, cache, own);
+      // A tape measure follows the convex hull of the section (paper §3.4.2).
+      const SectionLoop& loop = cached_loop(model, def, rest, section_faces, cache, own);
+      const auto [u, v] = in_plane_axes(def.plane_normal);
       std::vector<Eigen::Vector2d> flat;
       flat.reserve(loop.size());
-      for (const auto& q : loop) flat.push_back(in_plane(q, def.plane_normal));
-      return convex_hull_perimeter(flat);
+      for (const auto& s : loop) flat.emplace_back(s.q(u), s.q(v));
+      if (!gradient) return convex_hull_perimeter(flat);
+      const std::vector<size_t> hull = convex_hull(flat);
+      const Eigen::Vector3d n = axis_vector(def.plane_normal);
+      const int landmark = model.landmark(def.landmarks[0]);
+      double perimeter = 0;
+      for (size_t i = 0; i < hull.size(); ++i) {
+        // Each hull side pulls its two corners apart along itself.
+        const size_t from = hull[i], to = hull[(i + 1) % hull.size()];
+        const Eigen::Vector2d side = flat[to] - flat[from];
+        const double length = side.norm();
+        perimeter += length;
+        if (length == 0) continue;
+        Eigen::Vector3d g = Eigen::Vector3d::Zero();
+        g(u) = side.x() / length;
+        g(v) = side.y() / length;
+        add_section_point_gradient(loop[to], g, n, landmark, rest, *gradient);
+        add_section_point_gradient(loop[from], -g, n, landmark, rest, *gradient);
+      }
+      return perimeter;
     }
     case MeasurementKind::Weight: {
       const auto& c = model.data().weight_from_volume;
+      if (gradient) {
+        // ∂V/∂v sums (b × c)/6 over the faces at v, cyclically.
+        const Faces& faces = model.faces();
+        std::vector<Eigen::Vector3d> dv(static_cast<size_t>(rest.rows()), Eigen::Vector3d::Zero());
+        for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+          const int i0 = faces(f, 0), i1 = faces(f, 1), i2 = faces(f, 2);
+          const Eigen::Vector3d a = rest.row(i0), b = rest.row(i1), cc = rest.row(i2);
+          dv[static_cast<size_t>(i0)] += b.cross(cc) / 6;
+          dv[static_cast<size_t>(i1)] += cc.cross(a) / 6;
+          dv[static_cast<size_t>(i2)] += a.cross(b) / 6;
+        }
+        gradient->reserve(gradient->size() + dv.size());
+        for (size_t i = 0; i < dv.size(); ++i) gradient->push_back({static_cast<int>(i), c.a * dv[i]});
+      }
       return c.a * signed_volume(rest, model.faces()) + c.b;
     }
   }
@@ -109,18 +179,25 @@ double measure_with(const BodyModel& model, const MeasurementDefinition& def, co
 }  // namespace
 
 double measure(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest) {
-  return measure_with(model, def, rest, model.faces(), nullptr);
+  return measure_with(model, def, rest, model.faces(), nullptr, nullptr);
 }
 
 double measure(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
                const Faces& section_faces) {
-  return measure_with(model, def, rest, section_faces, nullptr);
+  return measure_with(model, def, rest, section_faces, nullptr, nullptr);
+}
+
+MeasurementGradient measure_with_gradient(const BodyModel& model, const MeasurementDefinition& definition,
+                                          const Vertices& rest, const Faces& section_faces) {
+  MeasurementGradient out;
+  out.value = measure_with(model, definition, rest, section_faces, nullptr, &out.terms);
+  return out;
 }
 
 std::map<std::string, double> measure_all(const BodyModel& model, const Vertices& rest) {
   std::map<std::string, double> out;
   SectionCache cache;
-  for (const auto& def : model.data().measurements) out[def.name] = measure_with(model, def, rest, model.faces(), &cache);
+  for (const auto& def : model.data().measurements) out[def.name] = measure_with(model, def, rest, model.faces(), &cache, nullptr);
   return out;
 }
 
@@ -129,7 +206,7 @@ std::map<std::string, double> measure_some(const BodyModel& model, const std::ve
   std::map<std::string, double> out;
   SectionCache cache;
   for (const auto& name : names)
-    if (const MeasurementDefinition* def = model.find_measurement(name)) out[name] = measure_with(model, *def, rest, model.faces(), &cache);
+    if (const MeasurementDefinition* def = model.find_measurement(name)) out[name] = measure_with(model, *def, rest, model.faces(), &cache, nullptr);
   return out;
 }
 

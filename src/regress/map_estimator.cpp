@@ -1,7 +1,7 @@
 // The noise-aware MAP estimator with uncertainty (issue 7). Method: Gaussian prior β ~ N(0, I)
 // of the shape space (paper §3.4.1), Gaussian measurement noise with the paper's Table 2 errors
-// (§4.1), the measurement functions of §3.4.2 linearised by forward differences in β and
-// minimised by Levenberg–Marquardt; Laplace approximation of the posterior at the optimum.
+// (§4.1), the measurement functions of §3.4.2 linearised exactly in β (their vertex gradients
+// times the shape directions) and minimised by Levenberg–Marquardt; Laplace approximation of the posterior at the optimum.
 #include "caliper/regress/map_estimator.h"
 
 #include <Eigen/Cholesky>
@@ -87,86 +87,22 @@ const MapEstimator::Linearisation& MapEstimator::at_mean() const {
 
 namespace {
 
-// Measuring plan for finite differences around one body: sections cut only the band of faces
-// within 2 cm of their plane (a 0.01 SD step moves no vertex by more than a millimetre, so every
-// face the shifted plane crosses is in the band), and weight differentiates the volume exactly.
-struct Planned {
-  const MeasurementDefinition* def = nullptr;
-  Faces band;         // sections only
-  bool section = false;
-};
-
-std::vector<Planned> plan_measurements(const BodyModel& model, const std::vector<std::string>& which, const Vertices& rest) {
-  std::vector<Planned> plan;
-  for (const auto& name : which) {
-    Planned p;
-    p.def = model.find_measurement(name);
-    const auto kind = p.def->kind;
-    p.section = (kind == MeasurementKind::Breadth || kind == MeasurementKind::Depth ||
-                 kind == MeasurementKind::Circumference) && !p.def->landmarks.empty();
-    if (p.section) {
-      const int axis = static_cast<int>(p.def->plane_normal);
-      const double c = rest(model.landmark(p.def->landmarks[0]), axis);
-      constexpr double kMargin = 0.02;
-      const Faces& faces = model.faces();
-      std::vector<Eigen::Index> keep;
-      for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-        const double a = rest(faces(f, 0), axis), b = rest(faces(f, 1), axis), d = rest(faces(f, 2), axis);
-        if (std::min({a, b, d}) <= c + kMargin && std::max({a, b, d}) >= c - kMargin) keep.push_back(f);
-      }
-      p.band.resize(static_cast<Eigen::Index>(keep.size()), 3);
-      for (size_t i = 0; i < keep.size(); ++i) p.band.row(static_cast<Eigen::Index>(i)) = faces.row(keep[i]);
-    }
-    plan.push_back(std::move(p));
-  }
-  return plan;
-}
-
-double measure_planned(const BodyModel& model, const Planned& p, const Vertices& rest) {
-  return p.section ? measure(model, *p.def, rest, p.band) : measure(model, *p.def, rest);
-}
-
-// ∂weight/∂β exactly: weight = a·V + b, V = Σ_f a·(b × c)/6, so ∂V/∂v sums (b × c)/6 over the
-// faces at v (cyclically), and ∂V/∂β = Sᵀ ∂V/∂v.
-Eigen::RowVectorXd weight_gradient(const BodyModel& model, const Vertices& rest, int k) {
-  Eigen::VectorXd grad = Eigen::VectorXd::Zero(rest.size());
-  const Faces& faces = model.faces();
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const int i0 = faces(f, 0), i1 = faces(f, 1), i2 = faces(f, 2);
-    const Eigen::Vector3d a = rest.row(i0), b = rest.row(i1), c = rest.row(i2);
-    grad.segment<3>(3 * i0) += b.cross(c) / 6;
-    grad.segment<3>(3 * i1) += c.cross(a) / 6;
-    grad.segment<3>(3 * i2) += a.cross(b) / 6;
-  }
-  return model.data().weight_from_volume.a * (grad.transpose() * model.data().shape_directions.leftCols(k));
-}
-
-// J = ∂m/∂β (|which| × K) at rest vertices T(β), by forward differences; sets `base` = m(β).
-// The shifted bodies are T(β) + h·S_j in double precision, so each difference is exactly the
-// step along S_j (the float rounding of T(β) itself cancels). Vertices are linear in β, the
-// measurements nearly so; h = 0.01 SD moves a vertex by well under a millimetre.
+// J = ∂m/∂β (|which| × K) at rest vertices T(β); sets `base` = m(β). Vertices are linear in β
+// (T(β) = T̄ + Sβ), so each row is the measurement's gradient in the vertices times S: exact,
+// and one measuring per measurement instead of K + 1 for finite differences.
 Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const Vertices& rest, const std::vector<std::string>& which,
                                      Eigen::VectorXd& base) {
-  constexpr double kStep = 1e-2;
   const int k = model.shape_count();
-  const auto plan = plan_measurements(model, which, rest);
   const auto m = static_cast<Eigen::Index>(which.size());
-  base.resize(m);
-  Eigen::MatrixXd jac(m, k);
-  std::vector<Eigen::Index> by_difference;
-  for (Eigen::Index i = 0; i < m; ++i) {
-    base(i) = measure_planned(model, plan[static_cast<size_t>(i)], rest);
-    if (plan[static_cast<size_t>(i)].def->kind == MeasurementKind::Weight) jac.row(i) = weight_gradient(model, rest, k);
-    else by_difference.push_back(i);
-  }
-  if (by_difference.empty()) return jac;
-  Vertices shifted;
   const Eigen::MatrixXd& directions = model.data().shape_directions;
-  for (int j = 0; j < k; ++j) {
-    shifted = rest;
-    Eigen::Map<Eigen::VectorXd>(shifted.data(), shifted.size()) += kStep * directions.col(j);
-    for (Eigen::Index i : by_difference)
-      jac(i, j) = (measure_planned(model, plan[static_cast<size_t>(i)], shifted) - base(i)) / kStep;
+  base.resize(m);
+  Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(m, k);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const MeasurementDefinition& def = *model.find_measurement(which[static_cast<size_t>(i)]);
+    const MeasurementGradient g = measure_with_gradient(model, def, rest, model.faces());
+    base(i) = g.value;
+    for (const GradientTerm& term : g.terms)
+      jac.row(i).noalias() += term.d.transpose() * directions.middleRows(3 * static_cast<Eigen::Index>(term.vertex), 3);
   }
   return jac;
 }
@@ -288,7 +224,7 @@ MapEstimate MapEstimator::estimate(const std::map<std::string, double>& values, 
           lambda *= 10;
         }
       }
-      if (!accepted) done = true;  // no descent left: at the optimum to finite-difference precision
+      if (!accepted) done = true;  // no descent left: at the optimum
     }
     return done;
   };

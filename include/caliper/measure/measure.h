@@ -16,6 +16,21 @@ double measure(const BodyModel& model, const MeasurementDefinition& definition, 
 double measure(const BodyModel& model, const MeasurementDefinition& definition, const Vertices& rest,
                const Faces& section_faces);
 
+// A measurement's value with its gradient with respect to the rest vertices: ∂value/∂v as terms
+// (vertex, 3-vector) for the few vertices it depends on (every vertex for weight); a vertex may
+// appear more than once (terms add). Exact wherever the value is differentiable. Used to
+// linearise measurements in β without finite differences (vertices are linear in β).
+struct GradientTerm {
+  int vertex = 0;
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+};
+struct MeasurementGradient {
+  double value = 0;
+  std::vector<GradientTerm> terms;
+};
+MeasurementGradient measure_with_gradient(const BodyModel& model, const MeasurementDefinition& definition,
+                                          const Vertices& rest, const Faces& section_faces);
+
 // All of the model's measurements, by name, SI units.
 std::map<std::string, double> measure_all(const BodyModel& model, const Vertices& rest);
 // The named ones the model knows (others are skipped), by name, SI units. Sections through the

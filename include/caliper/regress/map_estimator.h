@@ -2,7 +2,7 @@
 // maximum a posteriori shape β given any subset of known measurements, under the model's prior
 // β ~ N(0, I) and independent Gaussian measurement noise,
 //     β̂ = argmin  Σ_i ((m_i(β) − y_i) / σ_i)² + ‖β‖²,
-// found by Levenberg–Marquardt on the measurement functions linearised by finite differences.
+// found by Levenberg–Marquardt on the measurement functions linearised exactly (measure_with_gradient).
 // The posterior is approximated by the Gaussian at β̂ (Laplace): Σ = (Jᵀ W J + I)⁻¹, W = diag(σ⁻²),
 // from which every measurement's SD (√(g Σ gᵀ)) and every vertex's SD follow.
 // Consistent, nearly noise-free inputs are reproduced (σ → 0 makes them constraints); noisy or
@@ -48,7 +48,7 @@ struct MapOptions {
   std::map<std::string, double> noise_sd;  // per-measurement overrides, SI (m, kg), each > 0
   // Measurements whose posterior SD is wanted (empty: every measurement the model defines).
   std::vector<std::string> uncertainty_of;
-  bool measurement_uncertainty = true;     // false: skip measurement SDs (saves K+1 measurings)
+  bool measurement_uncertainty = true;     // false: skip measurement SDs (saves measuring them all)
   bool vertex_uncertainty = true;          // per-vertex SD
   int max_iterations = 50;                 // Levenberg–Marquardt iterations per solve
   // Share of inputs assumed to be gross errors (10σ wide) for self/other noise; 0 = pure Gaussian.
