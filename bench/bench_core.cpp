@@ -55,17 +55,17 @@ void BM_MeasurementsToGlb(benchmark::State& state) {
 }
 BENCHMARK(BM_MeasurementsToGlb)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
-// The noise-aware estimator (issue 7): Levenberg–Marquardt with finite-difference Jacobians
-// (K + 1 bodies per iteration) on the six inputs with "self" noise. Arg 0: β and its covariance
+// The default estimator, auto (issue 14): Levenberg–Marquardt on exact Jacobians (vertex
+// gradients times S) on the six inputs, kept inside the population. Arg 0: β and its covariance
 // only; 1: also the SD of all 43 measurements and of every vertex, and the avatar measured (what
-// `caliper avatar --regressor map` and the server do).
+// `caliper avatar` and the server do). Second arg: 0 "exact" noise (the default), 1 "self".
 void BM_MapEstimate(benchmark::State& state) {
   const auto model = female_model();
   AvatarBuilder builder(model);
   AvatarRequest req;
   req.measurements = typical_inputs();
-  req.regressor = "map";
-  req.noise = "self";
+  req.regressor = "auto";
+  req.noise = state.range(1) != 0 ? "self" : "exact";
   req.measure_avatar = state.range(0) != 0;
   req.vertex_uncertainty = state.range(0) != 0;
   int inputs = 0;
@@ -76,7 +76,7 @@ void BM_MapEstimate(benchmark::State& state) {
   }
   state.counters["inputs"] = inputs;
 }
-BENCHMARK(BM_MapEstimate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MapEstimate)->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})->Unit(benchmark::kMillisecond);
 
 void BM_MeasureAll(benchmark::State& state) {
   const auto model = female_model();

@@ -34,6 +34,15 @@ std::vector<std::string> split_list(const std::string& text) {
   return out;
 }
 
+// Whom "plausible" refers to: the model's own words (metadata `population`, written when the
+// model is built), else its data source.
+std::string population_description(const BodyModel& model) {
+  const auto& meta = model.data().metadata;
+  if (auto it = meta.find("population"); it != meta.end()) return it->second;
+  if (auto it = meta.find("source"); it != meta.end()) return it->second;
+  return "the population model '" + model.name() + "' was built from";
+}
+
 }  // namespace
 
 const Regressor& AvatarBuilder::regressor(const std::string& name, const std::vector<std::string>& inputs) const {
@@ -78,6 +87,11 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
   options.measurement_uncertainty = request.measure_avatar;
   options.uncertainty_of = request.measure_only;
   options.vertex_uncertainty = request.vertex_uncertainty;
+  // The best body the model can make stays inside its population: not implausible (rarer than
+  // 1 in 1,000 of its people, regress/regressor.h).
+  options.within_population = [](const Eigen::VectorXd& beta) {
+    return judge_plausibility(beta).overall != Verdict::Implausible;
+  };
   Avatar avatar;
   avatar.regressor = "map";
   avatar.noise = to_string(options.noise);
@@ -110,8 +124,10 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
   avatar.uncertainty = est.measurement_sd;
   avatar.vertex_sd = est.vertex_sd;
   avatar.input_fits = est.inputs;
+  avatar.noise_widened = est.noise_widened;
   avatar.warnings.insert(avatar.warnings.begin(), est.warnings.begin(), est.warnings.end());
   finish(request, avatar);
+  avatar.plausibility.drivers = describe_drivers(*model_, est.inputs);
   // Measurements not asked for (measure_only) keep no SD, so the report lists matching keys.
   if (!request.measure_only.empty())
     for (auto it = avatar.uncertainty.begin(); it != avatar.uncertainty.end();)
@@ -123,6 +139,7 @@ void AvatarBuilder::finish(const AvatarRequest& request, Avatar& avatar) const {
   avatar.rest_vertices = model_->rest_vertices(avatar.beta);
   avatar.joints = model_->joints(avatar.rest_vertices);
   avatar.plausibility = judge_plausibility(avatar.beta);
+  avatar.plausibility.population = population_description(*model_);
   avatar.requested = request.measurements;
   if (!request.measure_avatar) {
     // Nothing measured: the caller only wants the body.
@@ -134,18 +151,15 @@ void AvatarBuilder::finish(const AvatarRequest& request, Avatar& avatar) const {
 }
 
 Avatar AvatarBuilder::build(const AvatarRequest& request) const {
-  std::vector<std::string> known;
-  for (const auto& [name, value] : request.measurements) known.push_back(name);
   Avatar avatar;
   std::string key = request.regressor;
   std::vector<std::string> inputs;
   std::string upper = key;
   for (auto& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
-  if (upper == "MAP") return build_map(request);
-  if (upper == "AUTO") {
-    key = auto_preset(known);
-    inputs = preset_inputs(key);
-  } else if (upper.size() == 2 && upper[0] == 'R') {
+  // "auto", the default, is the noise-aware estimator over whatever was given (issue 14); the
+  // paper's presets stay selectable by name.
+  if (upper == "MAP" || upper == "AUTO") return build_map(request);
+  if (upper.size() == 2 && upper[0] == 'R') {
     key = upper;
     inputs = preset_inputs(key);
   } else {

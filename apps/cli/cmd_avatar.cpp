@@ -19,8 +19,10 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 void print_summary(const BuiltAvatar& built, std::ostream& os) {
   const Avatar& a = built.avatar;
-  os << "model " << built.model->name() << ", regressor " << a.regressor << ", shape "
-     << to_string(a.plausibility.overall) << " (" << a.plausibility.explanation << ")\n";
+  const Plausibility& p = a.plausibility;
+  os << "model " << built.model->name() << ", regressor " << a.regressor << "\n"
+     << "verdict: " << to_string(p.overall) << ", " << p.rarity << " (" << p.population << ")\n";
+  for (const auto& d : p.drivers) os << "  because " << d << "\n";
   // A value in the catalogue's edge unit (cm or kg) and that unit's name.
   auto edge = [](const std::string& name, double si) -> std::pair<double, std::string> {
     const MeasurementInfo* info = find_measurement_info(name);

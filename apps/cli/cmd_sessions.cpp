@@ -87,9 +87,7 @@ void register_sessions(CLI::App& app) {
   exp->callback([=] {
     auto svc = open_existing(*data_dir);
     const capture::Session s = find_or_throw(existing_or_throw(svc, *data_dir, *id), *id);
-    MeasurementSetFile set;
-    set.sex = s.protocol.sex();
-    set.edge = s.protocol.measurement_set();
+    const MeasurementSetFile set = measurement_set_of(s.protocol);
     std::string fmt = *format;
     if (fmt.empty()) fmt = output->size() >= 4 && output->substr(output->size() - 4) == ".csv" ? "csv" : "json";
     const std::string text = fmt == "csv" ? write_measurement_set_csv(set) : write_measurement_set_json(set);

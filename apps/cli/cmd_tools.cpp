@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "caliper/evaluation/shape_count.h"
 #include "caliper/makehuman/builder.h"
 #include "caliper/mannequin/population.h"
 #include "common.h"
@@ -66,6 +67,80 @@ void register_measure(CLI::App& app) {
   });
 }
 
+namespace {
+
+// Every ANSUR II CSV in a folder (sorted by name), or one CSV file; progress on stderr.
+std::vector<AnsurSubject> read_ansur_folder(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  if (fs::is_directory(path)) {
+    for (const auto& e : fs::directory_iterator(path))
+      if (e.path().extension() == ".csv") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) throw Error(ErrorKind::Io, "no .csv files in '" + path + "'", "--ansur");
+  } else {
+    files.push_back(path);
+  }
+  std::vector<AnsurSubject> subjects;
+  for (const auto& f : files) {
+    auto part = read_ansur_csv(f);
+    std::cerr << "read " << part.size() << " subjects from " << f << "\n";
+    subjects.insert(subjects.end(), part.begin(), part.end());
+  }
+  return subjects;
+}
+
+// `caliper model choose-k`: the held-out validation curve behind the built-in models' K.
+void register_choose_k(CLI::App& model) {
+  auto ansur = std::make_shared<std::string>("../shared/data/ansur2");
+  auto sex = std::make_shared<std::string>("female");
+  auto counts = std::make_shared<std::vector<int>>(ShapeCountOptions{}.counts);
+  auto folds = std::make_shared<int>(ShapeCountOptions{}.folds);
+  auto json = std::make_shared<std::string>();
+  CLI::App* cmd = model.add_subcommand(
+      "choose-k", "Held-out validation of the number of shape directions K of the built-in body: per K, how well the "
+                  "default estimator predicts unmeasured ANSUR columns of subjects left out of the model");
+  cmd->add_option("--ansur", *ansur, "folder with ANSUR_II_{FEMALE,MALE}*.csv, or one CSV file")->capture_default_str();
+  cmd->add_option("--sex", *sex, "female or male")->check(CLI::IsMember({"female", "male"}))->capture_default_str();
+  cmd->add_option("--counts", *counts, "values of K to judge, comma separated (1–64)")->delimiter(',')->capture_default_str();
+  cmd->add_option("--folds", *folds, "cross-validation folds (2–10): subject i is left out in fold i mod folds")
+      ->capture_default_str();
+  cmd->add_option("--json", *json, "also write the curve as JSON to this file");
+  cmd->callback([=] {
+    const std::vector<AnsurSubject> subjects = read_ansur_folder(*ansur);
+    ShapeCountOptions opt;
+    opt.counts = *counts;
+    opt.folds = *folds;
+    opt.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    auto bars = std::make_shared<std::map<std::string, std::function<void(int, int)>>>();
+    opt.progress = [bars](const std::string& stage, int done, int total) {
+      auto it = bars->find(stage);
+      if (it == bars->end()) it = bars->emplace(stage, progress_bar(stage)).first;
+      it->second(done, total);
+    };
+    const auto curve = validate_shape_counts(subjects, parse_sex(*sex), opt);
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    std::cout << "| K | variance kept | held-out body RMS (mm) | mean held-out MAE (cm) | implausible |\n"
+              << "|---|---|---|---|---|\n";
+    for (const auto& p : curve) {
+      std::cout << "| " << p.k << " | " << std::fixed << std::setprecision(2) << p.explained * 100 << " % | "
+                << p.reconstruction_mm << " | " << std::setprecision(3) << p.mean_held_out_mae_cm << " | "
+                << std::setprecision(1) << p.implausible_share * 100 << " % |\n";
+      nlohmann::ordered_json cols;
+      for (const auto& [col, mae] : p.held_out_mae) cols[col] = col == "weight" ? mae : mae * 100;
+      out.push_back({{"k", p.k}, {"explained", p.explained}, {"reconstruction_mm", p.reconstruction_mm},
+                     {"mean_held_out_mae_cm", p.mean_held_out_mae_cm}, {"implausible_share", p.implausible_share},
+                     {"failures", p.failures}, {"held_out_mae_cm", cols}});
+    }
+    if (!json->empty()) {
+      write_file(*json, out.dump(2) + "\n");
+      std::cout << "wrote " << *json << "\n";
+    }
+  });
+}
+
+}  // namespace
+
 void register_model(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("model", "Inspect body models");
   cmd->require_subcommand(1);
@@ -106,7 +181,7 @@ void register_model(CLI::App& app) {
   });
   auto ansur = std::make_shared<std::string>("../shared/data/ansur2");
   auto out = std::make_shared<std::string>();
-  auto components = std::make_shared<int>(10);
+  auto components = std::make_shared<int>(0);  // 0: the kind's own default
   auto build_sex = std::make_shared<std::string>("female");
   auto assets = std::make_shared<std::string>();
   auto max_subjects = std::make_shared<int>(makehuman::BuildOptions{}.max_subjects);
@@ -122,7 +197,11 @@ void register_model(CLI::App& app) {
       ->capture_default_str();
   build->add_option("--ansur", *ansur, "folder with ANSUR_II_{FEMALE,MALE}*.csv, or one CSV file")->capture_default_str();
   build->add_option("--sex", *build_sex, "female, male or neutral (both sexes)")->capture_default_str();
-  build->add_option("--components", *components, "shape directions kept, K (1–64)")->capture_default_str();
+  build->add_option("--components", *components,
+                    "shape directions kept, K (1–64); default: mannequin " +
+                        std::to_string(mannequin::PopulationOptions{}.components) +
+                        " (chosen by held-out validation, `caliper model choose-k`), makehuman " +
+                        std::to_string(makehuman::BuildOptions{}.components));
   build->add_option("-o,--output", *out, "model file to write (.npz)")->required();
   build->callback([=] {
     (void)kind;  // bound to the positional argument; kept alive by this capture
@@ -133,27 +212,13 @@ void register_model(CLI::App& app) {
     // Checked before the (slower) ANSUR read, so a wrong folder is reported at once.
     if (*kind == "makehuman" && !fs::is_directory(*assets))
       throw Error(ErrorKind::Io, "--assets '" + *assets + "' is not a folder (MakeHuman assets in MPFB2 layout)", "--assets");
-    std::vector<AnsurSubject> subjects;
-    std::vector<std::string> files;
-    if (fs::is_directory(*ansur)) {
-      for (const auto& e : fs::directory_iterator(*ansur))
-        if (e.path().extension() == ".csv") files.push_back(e.path().string());
-      std::sort(files.begin(), files.end());
-      if (files.empty()) throw Error(ErrorKind::Io, "no .csv files in '" + *ansur + "'", "--ansur");
-    } else {
-      files.push_back(*ansur);
-    }
-    for (const auto& f : files) {
-      auto part = read_ansur_csv(f);
-      std::cerr << "read " << part.size() << " subjects from " << f << "\n";
-      subjects.insert(subjects.end(), part.begin(), part.end());
-    }
+    const std::vector<AnsurSubject> subjects = read_ansur_folder(*ansur);
     if (*kind == "makehuman") {
       std::cerr << "reading MakeHuman assets from " << *assets << "\n";
       const makehuman::Assets mh = makehuman::load_assets(*assets);
       for (const auto& p : mh.problems) std::cerr << "warning: target " << p.name << ": " << p.reason << "\n";
       makehuman::BuildOptions mo;
-      mo.components = *components;
+      if (*components) mo.components = *components;
       mo.max_subjects = *max_subjects;
       mo.threads = std::max(1u, std::thread::hardware_concurrency());
       mo.progress = progress_bar("fitting subjects");
@@ -176,7 +241,7 @@ void register_model(CLI::App& app) {
       return;
     }
     mannequin::PopulationOptions po;
-    po.components = *components;
+    if (*components) po.components = *components;
     po.threads = std::max(1u, std::thread::hardware_concurrency());
     po.progress = progress_bar("generating bodies");
     mannequin::PopulationReport rep;
@@ -190,6 +255,7 @@ void register_model(CLI::App& app) {
               << rep.weight_mae_paper_kg << " kg, bias " << rep.weight_bias_paper_kg << " kg\n"
               << "wrote " << *out << "\n";
   });
+  register_choose_k(*cmd);
   CLI::App* list = cmd->add_subcommand("list", "List the models in the models folder");
   list->callback([] {
     const std::string dir = models_dir();

@@ -44,13 +44,14 @@ void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta) {
   app.add_option("--model", opts.model, "body model: a name in the models folder (see `caliper model list`) or a .npz path")
       ->capture_default_str();
   app.add_option("--regressor", opts.regressor,
-                 "R2, R4, R5, R6, auto (largest preset the given values allow), map (noise-aware, any measurements, "
-                 "with uncertainty), or a comma list of measurements")
+                 "auto (the default: the noise-aware estimator over every value given, with uncertainty; map is the "
+                 "same), the paper's presets R2, R4, R5, R6, or a comma list of measurements")
       ->capture_default_str();
-  app.add_option("--noise", opts.noise, "for --regressor map: who measured, exact, self or other (paper Table 2)")
-      ->check(CLI::IsMember({"exact", "self", "other"}))
-      ->capture_default_str();
-  app.add_option("--noise-sd", opts.noise_sd, "for --regressor map: a measurement's noise SD as NAME=SD (cm or kg)")
+  app.add_option("--noise", opts.noise,
+                 "who measured, for auto: exact (values reproduced as given), self or other (weighed by the paper's "
+                 "Table 2 errors); default: the measurement set's measured_by, else exact")
+      ->check(CLI::IsMember({"exact", "self", "other"}));
+  app.add_option("--noise-sd", opts.noise_sd, "for auto: a measurement's noise SD as NAME=SD (cm or kg)")
       ->type_name("NAME=SD");
   add_measurement(app, opts, "stature", "--stature,--height");
   add_measurement(app, opts, "weight", "--weight");
@@ -89,7 +90,8 @@ namespace {
 void warn(const Avatar& a) {
   for (const auto& w : a.warnings) std::cerr << "caliper: warning: " << w << "\n";
   if (a.plausibility.overall == Verdict::Implausible)
-    std::cerr << "caliper: warning: the shape is implausible: " << a.plausibility.explanation << "\n";
+    std::cerr << "caliper: warning: the shape is implausible, " << a.plausibility.rarity << ": "
+              << a.plausibility.explanation << "\n";
 }
 }  // namespace
 
@@ -105,11 +107,15 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
   Sex sex = parse_sex(opts.sex);
   BuiltAvatar out;
   std::map<std::string, double> edge = opts.values;
+  std::string noise = opts.noise;
   if (!opts.measurements_file.empty()) {
     const MeasurementSetFile file = read_measurement_set(opts.measurements_file);
     for (const auto& [name, value] : file.edge) edge.emplace(name, value);  // options win
     if (file.sex && !opts.sex_given) sex = *file.sex;
+    // A capture session's values carry who measured them, so the avatar is the headset mirror's.
+    if (file.measured_by && noise.empty()) noise = *file.measured_by;
   }
+  if (noise.empty()) noise = "exact";
   std::set<std::string> set_names;  // canonical names given with --set
   for (const auto& kv : opts.extra) {
     const auto [name, v] = name_value(kv, "--set");
@@ -158,7 +164,7 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
   AvatarRequest request;
   request.measurements = si;
   request.regressor = opts.regressor;
-  request.noise = opts.noise;
+  request.noise = noise;
   request.noise_sd = noise_sd;
   if (!opts.map_file.empty()) {
     // A user's own map replaces the model's default one.

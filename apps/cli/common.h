@@ -33,7 +33,9 @@ struct BodyOptions {
   std::string measurements_file;            // a measurement set (JSON/CSV); options given override it
   bool sex_given = false;                   // --sex was on the command line (else the file's sex is used)
   std::vector<double> beta;                 // explicit shape instead of measurements
-  std::string noise = "self";               // regressor "map": exact, self or other
+  // auto / map: who measured (exact, self or other); empty: the measurement set's own
+  // `measured_by`, else exact.
+  std::string noise;
   std::vector<std::string> noise_sd;        // regressor "map": NAME=SD (cm or kg) overrides
 };
 void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta);

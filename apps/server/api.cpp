@@ -136,8 +136,8 @@ struct BodyRequest {
   std::string regressor = "auto";
   std::map<std::string, double> edge;  // canonical name → cm / kg
   bool include_mesh = true;
-  std::string noise = "self";                 // regressor "map": exact, self or other
-  std::map<std::string, double> noise_sd_si;  // regressor "map": per-measurement SD overrides, SI
+  std::string noise = "exact";                // auto / map: exact (values as given), self or other
+  std::map<std::string, double> noise_sd_si;  // auto / map: per-measurement SD overrides, SI
 };
 
 ordered_json parse_json_body(const std::string& body) {
@@ -193,8 +193,9 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
     if (!j["mesh"].is_boolean()) bad("mesh must be true or false", "mesh");
     r.include_mesh = j["mesh"].get<bool>();
   }
-  // The map estimator's noise: who measured, and optional SDs per measurement (cm or kg).
-  r.noise = lower(string_field(j, "noise", "self"));
+  // Who measured, for auto (= map), and optional SDs per measurement (cm or kg); values whose
+  // noise nobody stated are reproduced as given.
+  r.noise = lower(string_field(j, "noise", "exact"));
   if (r.noise != "exact" && r.noise != "self" && r.noise != "other") bad("noise must be exact, self or other", "noise");
   if (j.contains("noise_sd") && !j["noise_sd"].is_null()) {
     if (!j["noise_sd"].is_object()) bad("noise_sd must be an object of name: SD (cm or kg)", "noise_sd");
@@ -215,6 +216,7 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
 struct MeasurementSet {
   std::string sex;    // empty when the file does not say
   std::string model;  // empty when the file does not say
+  std::string measured_by;  // "self" | "other" | empty (a capture session's export says)
   std::map<std::string, double> edge;
   std::vector<std::string> warnings;
 };
@@ -246,16 +248,24 @@ void add_to_set(MeasurementSet& set, const std::string& name, double value, cons
   set.edge[info->name] = round_to(v, 1e-4);
 }
 
+// Who took a set's values: "self" or "other" (paper Table 2's two settings).
+std::string measurer(const ordered_json& value, const std::string& where) {
+  if (value.is_string() && (value == "self" || value == "other")) return value.get<std::string>();
+  bad(where + " must be \"self\" or \"other\"", "measured_by");
+}
+
 MeasurementSet parse_set_json(const std::string& text) {
   const ordered_json j = parse_json_object(text, "the measurement set");
   MeasurementSet set;
   if (j.contains("sex") && j["sex"].is_string()) set.sex = to_string(parse_sex(j["sex"].get<std::string>()));
   if (j.contains("model") && j["model"].is_string()) set.model = j["model"].get<std::string>();
+  if (j.contains("measured_by") && !j["measured_by"].is_null()) set.measured_by = measurer(j["measured_by"], "measured_by");
   // Either {"measurements": {...}} (ours, and Caliper reports) or a flat {name: value} object.
   const ordered_json& m = j.contains("measurements") ? j["measurements"] : j;
   if (!m.is_object()) bad("measurements must be an object", "measurements");
   for (const auto& [name, value] : m.items()) {
-    if (!j.contains("measurements") && (name == "sex" || name == "model" || name == "format" || name == "version" || name == "units"))
+    if (!j.contains("measurements") && (name == "sex" || name == "model" || name == "format" || name == "version" ||
+                                        name == "units" || name == "measured_by"))
       continue;
     if (value.is_number()) {
       add_to_set(set, name, value.get<double>(), "", "measurements." + name);
@@ -320,6 +330,10 @@ MeasurementSet parse_set_csv(const std::string& text) {
       if (cells.size() >= 2) set.model = cells[1];
       continue;
     }
+    if (first == "measured_by") {
+      set.measured_by = measurer(cells.size() >= 2 ? ordered_json(lower(cells[1])) : ordered_json(nullptr), where + ": measured_by");
+      continue;
+    }
     if (cells.size() < 2) bad(where + ": expected measurement,value[,unit]", "line " + std::to_string(line_no));
     double v = 0;
     if (!parse_number(cells[1], v)) {
@@ -338,6 +352,7 @@ ordered_json set_json(const MeasurementSet& set) {
   j["version"] = 1;
   j["sex"] = set.sex.empty() ? ordered_json(nullptr) : ordered_json(set.sex);
   j["model"] = set.model.empty() ? ordered_json(nullptr) : ordered_json(set.model);
+  if (!set.measured_by.empty()) j["measured_by"] = set.measured_by;
   j["units"] = "lengths in cm, weight in kg";
   ordered_json m = ordered_json::object();
   // Catalogue order (the paper's inputs first) reads better than alphabetical.
@@ -360,6 +375,7 @@ std::string format_value(double v) {
 std::string set_csv(const MeasurementSet& set) {
   std::string out = "measurement,value,unit\n";
   if (!set.sex.empty()) out += "sex," + set.sex + ",\n";
+  if (!set.measured_by.empty()) out += "measured_by," + set.measured_by + ",\n";
   for (const auto& info : measurement_catalogue()) {
     auto it = set.edge.find(info.name);
     if (it != set.edge.end()) out += info.name + "," + format_value(it->second) + "," + edge_unit(info) + "\n";
@@ -517,11 +533,11 @@ struct Api::Impl {
     for (const auto& [name, sexes] : families())
       list.push_back({{"name", name}, {"sexes", sexes}, {"default", name == options.default_model}});
     ordered_json regressors = ordered_json::array();
-    for (const auto& p : preset_names()) regressors.push_back({{"name", p}, {"inputs", preset_inputs(p)}});
+    for (const auto& p : preset_names())
+      regressors.push_back({{"name", p}, {"inputs", preset_inputs(p)}, {"description", "the paper's regressor (§3.4.3)"}});
     regressors.push_back({{"name", "auto"}, {"inputs", nullptr},
-                          {"description", "the largest preset whose inputs are all given"}});
-    regressors.push_back({{"name", "map"}, {"inputs", nullptr},
-                          {"description", "noise-aware estimate from every given measurement, with uncertainty"}});
+                          {"description", "the default: noise-aware estimate from every given measurement, with uncertainty"}});
+    regressors.push_back({{"name", "map"}, {"inputs", nullptr}, {"description", "the same as auto"}});
     return json_response({{"default_model", options.default_model}, {"models", list}, {"regressors", regressors}});
   }
 

@@ -328,9 +328,7 @@ struct CaptureApi::Impl {
     if (format != "json" && format != "csv") refuse(400, "format must be json or csv", "format");
     auto s = service().find(id);
     if (!s) return not_found(id);
-    MeasurementSetFile set;
-    set.sex = s->protocol.sex();
-    set.edge = s->protocol.measurement_set();
+    const MeasurementSetFile set = measurement_set_of(s->protocol);
     ApiResponse out;
     if (format == "csv") {
       out.content_type = "text/csv; charset=utf-8";

@@ -15,11 +15,13 @@ namespace caliper {
 
 struct AvatarRequest {
   std::map<std::string, double> measurements;  // canonical name → SI value (m, kg), checked
-  std::string regressor = "auto";              // R2, R4, R5, R6, auto, map, or "custom:a,b,c"
-  // For "map" (regress/map_estimator.h): who measured (exact | self | other) sets each input's
-  // noise SD; `noise_sd` overrides it per measurement (canonical name → SD, SI: m or kg).
-  // Every given measurement the model can measure is an input of "map".
-  std::string noise = "self";
+  // auto (the default) = map: the noise-aware estimator over every given measurement
+  // (regress/map_estimator.h); R2, R4, R5, R6: the paper's presets; or "custom:a,b,c".
+  std::string regressor = "auto";
+  // For auto / map: who measured (exact | self | other) sets each input's noise SD; `noise_sd`
+  // overrides it per measurement (canonical name → SD, SI: m or kg). "exact" (the default, for
+  // values whose noise nobody stated) reproduces every input like the paper's regressors do.
+  std::string noise = "exact";
   std::map<std::string, double> noise_sd;
   // For "map": also compute the posterior SD of every vertex (the measurements' SDs follow
   // measure_avatar / measure_only).
@@ -36,7 +38,7 @@ struct AvatarRequest {
 };
 
 struct Avatar {
-  std::string regressor;                       // the one used, e.g. "R5"
+  std::string regressor;                       // the one used: "map" (for auto and map), "R5", …
   std::vector<std::string> inputs;             // the measurements it used
   Eigen::VectorXd beta;                        // K
   Vertices rest_vertices;                      // N×3
@@ -56,6 +58,9 @@ struct Avatar {
   Eigen::VectorXd vertex_sd;
   Eigen::MatrixXd beta_covariance;
   std::map<std::string, MapInputFit> input_fits;
+  // auto / map: > 1 when the values lay outside the model's population and the avatar is the
+  // closest body inside it (their noise SDs widened by this factor; see MapOptions).
+  double noise_widened = 1;
   std::vector<std::string> warnings;
 };
 

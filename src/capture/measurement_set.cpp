@@ -1,6 +1,7 @@
 // Measurement-set files (docs/api.md "Measurement sets"), for capture exports and
 // `caliper avatar --measurements`.
 #include "caliper/capture/measurement_set.h"
+#include "caliper/capture/protocol.h"
 
 #include <cmath>
 #include <fstream>
@@ -73,6 +74,12 @@ Sex sex_of(const std::string& text, const std::string& where) {
   throw Error(ErrorKind::Format, where + ": sex must be female, male or neutral (got '" + text + "')", "sex");
 }
 
+std::string measurer_of(const std::string& text, const std::string& where) {
+  const std::string t = lower_trim(text);
+  if (t == "self" || t == "other") return t;
+  throw Error(ErrorKind::Format, where + ": measured_by must be self or other (got '" + text + "')", "measured_by");
+}
+
 MeasurementSetFile parse_json(const std::string& text) {
   nlohmann::json j;
   try {
@@ -89,11 +96,16 @@ MeasurementSetFile parse_json(const std::string& text) {
                 "version");
   MeasurementSetFile set;
   if (j.contains("sex") && j["sex"].is_string()) set.sex = sex_of(j["sex"].get<std::string>(), "sex");
+  if (j.contains("measured_by") && !j["measured_by"].is_null()) {
+    if (!j["measured_by"].is_string()) throw Error(ErrorKind::Format, "measured_by must be \"self\" or \"other\"", "measured_by");
+    set.measured_by = measurer_of(j["measured_by"].get<std::string>(), "measured_by");
+  }
   const bool nested = j.contains("measurements");
   const nlohmann::json& m = nested ? j["measurements"] : j;
   if (!m.is_object()) throw Error(ErrorKind::Format, "measurement set: measurements must be an object", "measurements");
   for (const auto& [name, value] : m.items()) {
-    if (!nested && (name == "sex" || name == "model" || name == "format" || name == "version" || name == "units" || name == "warnings"))
+    if (!nested && (name == "sex" || name == "model" || name == "format" || name == "version" || name == "units" ||
+                    name == "warnings" || name == "measured_by"))
       continue;
     if (value.is_null()) continue;
     if (!value.is_number()) throw Error(ErrorKind::Format, "measurements." + name + " must be a number (cm or kg)", name);
@@ -125,6 +137,11 @@ MeasurementSetFile parse_csv(const std::string& text) {
       set.sex = sex_of(cells[1], where);
       continue;
     }
+    if (first == "measured_by") {
+      if (cells.size() < 2) throw Error(ErrorKind::Format, where + ": measured_by needs a value", "measured_by");
+      set.measured_by = measurer_of(cells[1], where);
+      continue;
+    }
     if (cells.size() < 2) throw Error(ErrorKind::Format, where + ": expected measurement,value[,unit]", first);
     const std::string value = lower_trim(cells[1]);
     double v = 0;
@@ -149,6 +166,7 @@ std::string write_measurement_set_json(const MeasurementSetFile& set) {
   j["version"] = 1;
   j["sex"] = set.sex ? nlohmann::ordered_json(to_string(*set.sex)) : nlohmann::ordered_json(nullptr);
   j["model"] = nullptr;
+  if (set.measured_by) j["measured_by"] = *set.measured_by;
   j["units"] = "lengths in cm, weight in kg";
   nlohmann::ordered_json m = nlohmann::ordered_json::object();
   for (const auto& info : measurement_catalogue()) {
@@ -162,6 +180,7 @@ std::string write_measurement_set_json(const MeasurementSetFile& set) {
 std::string write_measurement_set_csv(const MeasurementSetFile& set) {
   std::string out = "measurement,value,unit\n";
   if (set.sex) out += std::string("sex,") + to_string(*set.sex) + ",\n";
+  if (set.measured_by) out += "measured_by," + *set.measured_by + ",\n";
   for (const auto& info : measurement_catalogue()) {
     auto it = set.edge.find(info.name);
     if (it != set.edge.end()) out += info.name + "," + number(it->second) + "," + edge_unit(info) + "\n";
@@ -175,6 +194,14 @@ MeasurementSetFile parse_measurement_set(const std::string& text) {
   // JSON if it looks like JSON (an array, too, gets the JSON reader's clear refusal), else CSV.
   MeasurementSetFile set = text[a] == '{' || text[a] == '[' ? parse_json(text) : parse_csv(text);
   if (set.edge.empty()) throw Error(ErrorKind::Format, "the measurement set has no measurements", "measurements");
+  return set;
+}
+
+MeasurementSetFile measurement_set_of(const capture::CaptureProtocol& session) {
+  MeasurementSetFile set;
+  set.sex = session.sex();
+  set.edge = session.measurement_set();
+  set.measured_by = capture::to_string(session.config().mode);
   return set;
 }
 

@@ -160,7 +160,8 @@ void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Ver
         if (truth.count(in)) out.inputs_vs_truth[method][k] = a.achieved.at(in) - maps.map(in).apply(truth.at(in));
       }
       held_out_errors(a.achieved, a.inputs, out.held_out[method]);
-      out.implausible[method] = a.plausibility.overall == Verdict::Implausible;
+      // A body moved back inside the population counts as implausible: its inputs were not.
+      out.implausible[method] = a.plausibility.overall == Verdict::Implausible || a.noise_widened > 1;
     } catch (const Error&) {
       out.failed[method] = true;
     }

@@ -25,11 +25,19 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
   for (Eigen::Index i = 0; i < avatar.beta.size(); ++i) j["beta"].push_back(round_to(avatar.beta(i), 1e-6));
   ordered_json per = ordered_json::array();
   for (auto v : avatar.plausibility.per_value) per.push_back(to_string(v));
-  j["plausibility"] = {{"verdict", to_string(avatar.plausibility.overall)},
+  const Plausibility& p = avatar.plausibility;
+  j["plausibility"] = {{"verdict", to_string(p.overall)},
+                       {"rarity", p.rarity},
+                       {"tail_probability", p.tail_probability},
+                       {"population", p.population},
+                       {"drivers", p.drivers},
                        {"per_value", per},
-                       {"mahalanobis_sq", round_to(avatar.plausibility.mahalanobis_sq, 1e-4)},
-                       {"explanation", avatar.plausibility.explanation},
-                       {"bands", "|beta| <= 2 plausible, 2-3 unusual, > 3 implausible; overall also by chi-square of |beta|^2"}};
+                       {"mahalanobis_sq", round_to(p.mahalanobis_sq, 1e-4)},
+                       {"explanation", p.explanation},
+                       {"bands", "overall: share of the population further from its average (chi-square of |beta|^2) "
+                                 "below 1 % unusual, below 0.1 % implausible; per value: |beta| <= 2 plausible, 2-3 "
+                                 "unusual, > 3 implausible"}};
+  if (avatar.noise_widened > 1) j["plausibility"]["outside_population_noise_widened"] = round_to(avatar.noise_widened, 1e-3);
   ordered_json ms = ordered_json::object();
   for (const auto& [name, achieved] : avatar.achieved) {
     const MeasurementInfo* info = find_measurement_info(name);

@@ -74,7 +74,7 @@ std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::st
   std::string line;
   std::vector<std::string> header;
   std::vector<AnsurSubject> subjects;
-  int line_no = 0, gender_col = -1, id_col = -1;
+  int line_no = 0, gender_col = -1, id_col = -1, age_col = -1;
   while (std::getline(in, line)) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -85,6 +85,7 @@ std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::st
       for (size_t i = 0; i < header.size(); ++i) {
         if (header[i] == "gender") gender_col = static_cast<int>(i);
         if (header[i] == "subjectid") id_col = static_cast<int>(i);
+        if (header[i] == "age") age_col = static_cast<int>(i);
       }
       bool has_stature = false;
       for (auto& h : header) has_stature |= h == "stature";
@@ -102,6 +103,12 @@ std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::st
     if (g == "male") s.sex = Sex::Male;
     else if (g == "female") s.sex = Sex::Female;
     else throw Error(ErrorKind::Format, source + ":" + std::to_string(line_no) + ": Gender must be Male or Female", "gender");
+    if (age_col >= 0) {
+      const std::string& cell = cells[static_cast<size_t>(age_col)];
+      double years = 0;
+      const auto res = std::from_chars(cell.data(), cell.data() + cell.size(), years);
+      if (res.ec == std::errc() && res.ptr == cell.data() + cell.size() && years > 0 && years < 150) s.age_years = years;
+    }
     for (size_t i = 0; i < header.size(); ++i) {
       if (text_columns().count(header[i])) continue;
       const std::string& cell = cells[i];

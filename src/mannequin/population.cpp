@@ -127,41 +127,86 @@ RealToVirtualFit fit_real_to_virtual(const BodyModel& provisional, const Eigen::
   return {maps.to_json(), fits.str()};
 }
 
+namespace {
+// Whom the model's "plausible" refers to, in words (issue 14): the subjects' sex, count, and
+// ranges of age, BMI and stature.
+std::string describe_population(const std::vector<const AnsurSubject*>& subjects, Sex sex) {
+  double age_lo = INFINITY, age_hi = -INFINITY, bmi_lo = INFINITY, bmi_hi = -INFINITY, h_lo = INFINITY, h_hi = -INFINITY;
+  for (const AnsurSubject* s : subjects) {
+    if (std::isfinite(s->age_years)) { age_lo = std::min(age_lo, s->age_years); age_hi = std::max(age_hi, s->age_years); }
+    const double h = s->values.at("stature"), bmi = s->values.at("weightkg") / (h * h);
+    bmi_lo = std::min(bmi_lo, bmi);
+    bmi_hi = std::max(bmi_hi, bmi);
+    h_lo = std::min(h_lo, h);
+    h_hi = std::max(h_hi, h);
+  }
+  const char* who = sex == Sex::Female ? "women" : sex == Sex::Male ? "men" : "women and men";
+  std::ostringstream d;
+  d << "ANSUR II, US Army personnel measured in 2010-2012: " << subjects.size() << " " << who;
+  if (std::isfinite(age_lo)) d << " aged " << std::lround(age_lo) << "-" << std::lround(age_hi);
+  d << ", BMI " << std::lround(bmi_lo) << "-" << std::lround(bmi_hi) << ", stature " << std::lround(h_lo * 100) << "-"
+    << std::lround(h_hi * 100) << " cm";
+  return d.str();
+}
+}  // namespace
+
+GeneratedPopulation generate_population(const std::vector<AnsurSubject>& all, Sex sex, int threads,
+                                        const std::function<void(int, int)>& progress) {
+  GeneratedPopulation pop;
+  for (const auto& s : all)
+    if (sex == Sex::Neutral || s.sex == sex) pop.subjects.push_back(&s);
+  const int n = static_cast<int>(pop.subjects.size());
+  const Topology& topo = topology();
+  const Eigen::Index dim = 3 * static_cast<Eigen::Index>(topo.vertex_count);
+  pop.bodies.resize(n, dim);
+  pop.volumes.assign(static_cast<size_t>(n), 0.0);
+  const std::vector<std::string> errors = detail::parallel_for(
+      n, threads,
+      [&](int i) {
+        const AnsurSubject& subject = *pop.subjects[static_cast<size_t>(i)];
+        Dimensions dims;
+        for (const auto& col : input_columns()) {
+          auto it = subject.values.find(col);
+          if (it != subject.values.end()) dims[col] = it->second;
+        }
+        const Vertices v = generate(complete_dimensions(dims, subject.sex), subject.sex);
+        pop.bodies.row(i) = Eigen::Map<const Eigen::RowVectorXd>(v.data(), dim);
+        pop.volumes[static_cast<size_t>(i)] = signed_volume(v, topo.faces);
+      },
+      progress);
+  for (int i = 0; i < n; ++i)
+    if (!errors[static_cast<size_t>(i)].empty())
+      throw Error(ErrorKind::Format, "subject " + pop.subjects[static_cast<size_t>(i)]->id + ": " + errors[static_cast<size_t>(i)],
+                  "subjects");
+  return pop;
+}
+
 BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, const PopulationOptions& options,
                                 PopulationReport* report) {
   const int k = options.components;
-  if (k < 1 || k > 64) throw Error(ErrorKind::OutOfRange, "components must be in [1, 64]", "components");
-  std::vector<const AnsurSubject*> subjects;
-  for (const auto& s : all)
-    if (sex == Sex::Neutral || s.sex == sex) subjects.push_back(&s);
-  const int n = static_cast<int>(subjects.size());
+  if (k < 1 || k > kMaxComponents)
+    throw Error(ErrorKind::OutOfRange, "components must be in [1, " + std::to_string(kMaxComponents) + "]", "components");
+  int n = 0;
+  for (const auto& s : all) n += sex == Sex::Neutral || s.sex == sex;
   if (n < k + 1)
     throw Error(ErrorKind::Format, "need at least " + std::to_string(k + 1) + " " + to_string(sex) +
                                        " subjects, got " + std::to_string(n), "subjects");
-  const Topology& topo = topology();
-  const Eigen::Index dim = 3 * static_cast<Eigen::Index>(topo.vertex_count);
+  GeneratedPopulation pop = generate_population(all, sex, options.threads, options.progress);
+  return model_from_population(pop, sex, options, report);
+}
 
-  // One body per subject, row s of `bodies` (row-major N×3 flattened: x0 y0 z0 x1 …).
-  Eigen::MatrixXd bodies(n, dim);
-  std::vector<double> volumes(static_cast<size_t>(n));
-  const std::vector<std::string> errors = detail::parallel_for(
-      n, options.threads,
-      [&](int i) {
-        Dimensions dims;
-        for (const auto& col : input_columns()) {
-          auto it = subjects[static_cast<size_t>(i)]->values.find(col);
-          if (it != subjects[static_cast<size_t>(i)]->values.end()) dims[col] = it->second;
-        }
-        const Vertices v = generate(complete_dimensions(dims, subjects[static_cast<size_t>(i)]->sex),
-                                    subjects[static_cast<size_t>(i)]->sex);
-        bodies.row(i) = Eigen::Map<const Eigen::RowVectorXd>(v.data(), dim);
-        volumes[static_cast<size_t>(i)] = signed_volume(v, topo.faces);
-      },
-      options.progress);
-  for (int i = 0; i < n; ++i)
-    if (!errors[static_cast<size_t>(i)].empty())
-      throw Error(ErrorKind::Format, "subject " + subjects[static_cast<size_t>(i)]->id + ": " + errors[static_cast<size_t>(i)],
-                  "subjects");
+BodyModel model_from_population(GeneratedPopulation& pop, Sex sex, const PopulationOptions& options,
+                                PopulationReport* report) {
+  const int k = options.components;
+  const int n = static_cast<int>(pop.subjects.size());
+  if (k < 1 || k > kMaxComponents)
+    throw Error(ErrorKind::OutOfRange, "components must be in [1, " + std::to_string(kMaxComponents) + "]", "components");
+  if (n < k + 1)
+    throw Error(ErrorKind::Format, "need at least " + std::to_string(k + 1) + " subjects, got " + std::to_string(n), "subjects");
+  const Topology& topo = topology();
+  Eigen::MatrixXd& bodies = pop.bodies;
+  const std::vector<double>& volumes = pop.volumes;
+  const std::vector<const AnsurSubject*>& subjects = pop.subjects;
 
   const PrincipalComponents pca = principal_components(bodies, k, options.seed);
   const Eigen::RowVectorXd& mean = pca.mean;
@@ -200,7 +245,8 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
                 {"weight_fit", "weight_kg = " + std::to_string(ab(0)) + " * volume_m3 + " + std::to_string(ab(1))},
                 {"weight_mae_fitted_kg", std::to_string(mae_fit)},
                 {"weight_mae_paper_kg", std::to_string(mae_paper)},
-                {"rebuild", "caliper model build mannequin --ansur ../shared/data/ansur2 --sex " + std::string(to_string(sex))}};
+                {"rebuild", "caliper model build mannequin --ansur ../shared/data/ansur2 --sex " + std::string(to_string(sex))},
+                {"population", describe_population(subjects, sex)}};
   // Real → virtual maps (paper §3.3) for the Virtual Caliper inputs whose virtual measurement on
   // the generated body differs systematically from the real one (e.g. arm length: ANSUR measures
   // it with the arm hanging, the avatar stands in a T-pose). Fitted on these same bodies.

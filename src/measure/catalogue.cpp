@@ -113,6 +113,16 @@ double edge_to_si(const MeasurementInfo& info, double edge_value) {
   return info.unit == Unit::Kilogram ? edge_value : edge_value / 100.0;
 }
 
+std::string edge_text(const std::string& name, double value_si) {
+  const MeasurementInfo* info = find_measurement_info(name);
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(1);
+  if (info) s << si_to_edge(*info, value_si) << " " << edge_unit(*info);
+  else s << value_si * 100 << " cm";
+  return s.str();
+}
+
 double si_to_edge(const MeasurementInfo& info, double value_si) {
   return info.unit == Unit::Kilogram ? value_si : value_si * 100.0;
 }

@@ -118,19 +118,109 @@ std::pair<const char*, const char*> comparatives(MeasurementKind kind) {
   }
 }
 
-std::string edge_text(const std::string& name, double si) {
-  const MeasurementInfo* info = find_measurement_info(name);
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(1);
-  if (info) s << si_to_edge(*info, si) << " " << edge_unit(*info);
-  else s << si * 100 << " cm";
-  return s.str();
-}
 
 }  // namespace
 
+std::vector<std::string> describe_drivers(const BodyModel& model, const std::map<std::string, MapInputFit>& fits) {
+  constexpr double kNotable = 2.0;
+  std::vector<std::pair<double, std::string>> found;
+  for (const auto& [name, fit] : fits) {
+    const MeasurementDefinition* def = model.find_measurement(name);
+    if (!def) continue;
+    const auto [more, less] = comparatives(def->kind);
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(1);
+    if (std::abs(fit.population_z) >= kNotable) {
+      s << name << " " << edge_text(name, fit.value) << " is " << std::abs(fit.population_z) << " SD "
+        << (fit.population_z > 0 ? "above" : "below") << " the population's average (" << edge_text(name, fit.population_mean) << ")";
+      found.emplace_back(std::abs(fit.population_z), s.str());
+      s.str("");
+    }
+    if (std::abs(fit.z) >= kNotable) {
+      s << name << " " << edge_text(name, fit.value) << " is " << std::abs(fit.z) << " SD " << (fit.z > 0 ? more : less)
+        << " than the other measurements suggest (" << edge_text(name, fit.expected) << ")";
+      found.emplace_back(std::abs(fit.z), s.str());
+    }
+  }
+  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<std::string> out;
+  for (auto& f : found) out.push_back(std::move(f.second));
+  return out;
+}
+
 MapEstimate MapEstimator::estimate(const std::map<std::string, double>& values, const MapOptions& options) const {
+  MapEstimate est;
+  if (!options.within_population) {
+    est = solve(values, options);
+  } else {
+    // First β alone: a body far outside may be too wrecked to measure everything on.
+    MapOptions quick = options;
+    quick.measurement_uncertainty = false;
+    quick.vertex_uncertainty = false;
+    est = solve(values, quick);
+    if (!options.within_population(est.beta)) est = solve_within_population(values, options, est);
+    else if (options.measurement_uncertainty || options.vertex_uncertainty) est = solve(values, options);
+  }
+  const Linearisation& lin = at_mean();
+  for (auto& [name, fit] : est.inputs) {
+    const auto row = std::find(all_measurements_.begin(), all_measurements_.end(), name) - all_measurements_.begin();
+    fit.population_mean = lin.m0(row);
+    fit.population_sd = lin.j0.row(row).norm();  // β ~ N(0, I): SD of g·β is ‖g‖
+    fit.population_z = fit.population_sd > 0 ? (fit.value - fit.population_mean) / fit.population_sd : 0;
+  }
+  return est;
+}
+
+MapEstimate MapEstimator::solve_within_population(const std::map<std::string, double>& values, const MapOptions& options,
+                                                  const MapEstimate& unbounded) const {
+  // β̂ moves towards the mean as the inputs' noise widens (the prior weighs more): bracket the
+  // common factor by quadrupling, then bisect it in logs; the solves inside need no uncertainty.
+  MapOptions widened = options;
+  widened.measurement_uncertainty = false;
+  widened.vertex_uncertainty = false;
+  auto with_factor = [&](double factor, const MapOptions& base) {
+    MapOptions o = base;
+    for (const auto& [name, fit] : unbounded.inputs) o.noise_sd[name] = factor * fit.noise_sd;
+    return o;
+  };
+  auto inside = [&](double factor) {
+    try {
+      return options.within_population(solve(values, with_factor(factor, widened)).beta);
+    } catch (const Error&) {
+      return false;  // a body so far out that a section misses it
+    }
+  };
+  double lo = 1, hi = 2;
+  while (!inside(hi) && hi < 1e6) { lo = hi; hi *= 4; }
+  for (int i = 0; i < 12 && hi / lo > 1.02; ++i) {
+    const double mid = std::sqrt(lo * hi);
+    (inside(mid) ? hi : lo) = mid;
+  }
+  MapEstimate est = solve(values, with_factor(hi, options));
+  est.noise_widened = hi;
+  // Report the inputs' stated noise (the widening is reported once, as the factor).
+  for (auto& [name, fit] : est.inputs) {
+    fit.noise_sd = unbounded.inputs.at(name).noise_sd;
+    fit.effective_sd = std::max(fit.effective_sd, fit.noise_sd);
+  }
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(1);
+  s << "these measurements together lie outside the population the model was built from: the avatar is the "
+       "closest body inside it";
+  std::string sep = ", reaching ";
+  for (const auto& [name, fit] : est.inputs) {
+    const bool kg = model_->find_measurement(name)->kind == MeasurementKind::Weight;
+    if (std::abs(fit.fitted - fit.value) <= std::max(fit.noise_sd, kg ? 0.5 : 0.005)) continue;
+    s << sep << name << " " << edge_text(name, fit.fitted) << " (given " << edge_text(name, fit.value) << ")";
+    sep = ", ";
+  }
+  est.warnings.insert(est.warnings.begin(), s.str());
+  return est;
+}
+
+MapEstimate MapEstimator::solve(const std::map<std::string, double>& values, const MapOptions& options) const {
   const BodyModel& model = *model_;
   if (values.empty()) throw Error(ErrorKind::InvalidArgument, "the map estimator needs at least one measurement", "measurements");
   std::vector<std::string> names;

@@ -29,16 +29,6 @@ std::vector<std::string> preset_inputs(const std::string& preset) {
   throw Error(ErrorKind::InvalidArgument, "unknown regressor '" + preset + "' (R2, R4, R5, R6, auto, map, or a comma list of measurements)", "regressor");
 }
 
-std::string auto_preset(const std::vector<std::string>& known) {
-  for (auto it = preset_names().rbegin(); it != preset_names().rend(); ++it) {
-    const auto inputs = preset_inputs(*it);
-    if (std::all_of(inputs.begin(), inputs.end(),
-                    [&](const std::string& m) { return std::find(known.begin(), known.end(), m) != known.end(); }))
-      return *it;
-  }
-  throw Error(ErrorKind::Unsupported, "the regressors need at least stature and weight", "stature");
-}
-
 namespace {
 
 // The weight feature: cube root of the volume is linear in β (§3.4.2), weight is not.
@@ -185,11 +175,47 @@ const char* to_string(Verdict verdict) {
   return "plausible";
 }
 
+double chi_square_tail(int k, double x) {
+  if (k < 1) throw Error(ErrorKind::InvalidArgument, "chi-square needs at least one degree of freedom", "k");
+  if (!(x > 0)) return 1.0;
+  if (!std::isfinite(x)) return 0.0;
+  // Q(k/2, x/2): for even k, e^{−x/2} Σ_{i<k/2} (x/2)^i / i!; for odd k, erfc(√(x/2)) plus
+  // e^{−x/2} Σ_{i<(k−1)/2} (x/2)^{i+½} / Γ(i + 3/2). Terms built by recurrence, in logs-free form.
+  const double h = x / 2;
+  double sum = 0, term;
+  if (k % 2 == 0) {
+    term = std::exp(-h);
+    for (int i = 0; i < k / 2; ++i) {
+      sum += term;
+      term *= h / (i + 1);
+    }
+    return std::min(1.0, sum);
+  }
+  term = std::exp(-h) * std::sqrt(h) / std::tgamma(1.5);
+  for (int i = 0; i < (k - 1) / 2; ++i) {
+    sum += term;
+    term *= h / (i + 1.5);
+  }
+  return std::min(1.0, std::erfc(std::sqrt(h)) + sum);
+}
+
 namespace {
-// χ²_k quantile by the Wilson–Hilferty approximation (good to ~1 % for k ≥ 2).
-double chi_square_quantile(int k, double z) {
-  const double a = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
+// "about 1 in 40 people", "rarer than 1 in 1,000 people": how rare a body this far out is.
+std::string rarity_words(double tail) {
+  std::ostringstream s;
+  if (tail >= 0.1) {
+    s << "typical: about " << static_cast<int>(std::round(tail * 100))
+      << " in 100 people of that population are further from its average";
+  } else if (tail >= 1e-3) {
+    const double one_in = 1 / tail;
+    const double rounded = one_in < 100 ? std::round(one_in) : std::round(one_in / 10) * 10;
+    s << "about 1 in " << static_cast<int>(rounded) << " people of that population is this far from its average";
+  } else if (tail >= 1e-6) {
+    s << "rarer than 1 in 1,000 people of that population";
+  } else {
+    s << "rarer than 1 in a million people of that population";
+  }
+  return s.str();
 }
 }  // namespace
 
@@ -197,29 +223,28 @@ Plausibility judge_plausibility(const Eigen::VectorXd& beta) {
   Plausibility p;
   p.per_value.resize(static_cast<size_t>(beta.size()));
   std::ostringstream why;
-  int unusual = 0, implausible = 0;
   for (Eigen::Index i = 0; i < beta.size(); ++i) {
     const double a = std::abs(beta(i));
     Verdict v = !std::isfinite(a) || a > 3.0 ? Verdict::Implausible : a > 2.0 ? Verdict::Unusual : Verdict::Plausible;
     p.per_value[static_cast<size_t>(i)] = v;
-    if (v == Verdict::Implausible) ++implausible;
-    if (v == Verdict::Unusual) ++unusual;
     if (v != Verdict::Plausible)
       why << (why.tellp() > 0 ? "; " : "") << "shape " << (i + 1) << " is " << (std::round(beta(i) * 100) / 100)
           << " SD from the mean";
-    if (static_cast<int>(v) > static_cast<int>(p.overall)) p.overall = v;
   }
   p.mahalanobis_sq = beta.squaredNorm();
   const int k = static_cast<int>(beta.size());
   if (k >= 1) {
-    const double q99 = chi_square_quantile(k, 2.3263), q999 = chi_square_quantile(k, 3.0902);
-    Verdict joint = p.mahalanobis_sq > q999 ? Verdict::Implausible : p.mahalanobis_sq > q99 ? Verdict::Unusual : Verdict::Plausible;
-    if (joint != Verdict::Plausible) {
+    // Two ways to be far out: the whole shape (‖β‖², χ²_K) and one direction alone (max |β_k|,
+    // the largest of K standard normals); the smaller share, doubled for asking twice.
+    const double joint = std::isfinite(p.mahalanobis_sq) ? chi_square_tail(k, p.mahalanobis_sq) : 0.0;
+    const double largest = std::isfinite(p.mahalanobis_sq) ? beta.cwiseAbs().maxCoeff() : INFINITY;
+    const double one_direction = 1 - std::pow(1 - std::erfc(largest / std::sqrt(2.0)), k);
+    p.tail_probability = std::min(1.0, 2 * std::min(joint, one_direction));
+    p.overall = p.tail_probability < 1e-3 ? Verdict::Implausible : p.tail_probability < 1e-2 ? Verdict::Unusual : Verdict::Plausible;
+    p.rarity = rarity_words(p.tail_probability);
+    if (p.overall != Verdict::Plausible)
       why << (why.tellp() > 0 ? "; " : "") << "the shape as a whole is far from the population (‖β‖² = "
-          << std::round(p.mahalanobis_sq * 10) / 10 << ", " << (joint == Verdict::Implausible ? "99.9" : "99")
-          << " % of bodies are below " << std::round((joint == Verdict::Implausible ? q999 : q99) * 10) / 10 << ")";
-      if (static_cast<int>(joint) > static_cast<int>(p.overall)) p.overall = joint;
-    }
+          << std::round(p.mahalanobis_sq * 10) / 10 << "; " << p.rarity << ")";
   }
   p.explanation = why.tellp() > 0 ? why.str() : "every shape value is within 2 SD of the population mean";
   return p;

@@ -165,13 +165,14 @@ TEST_F(ApiTest, ATallerRequestGivesATallerMesh) {
                   a["report"]["measurements"]["stature"]["achieved_cm"].get<double>(), 20.0, 0.02);
 }
 
-TEST_F(ApiTest, AutoPicksTheLargestPresetAndMeshCanBeLeftOut) {
+TEST_F(ApiTest, AutoUsesEveryGivenValueAndMeshCanBeLeftOut) {
   json body = avatar_body(170, 65, "auto");
   body["measurements"]["span"] = 172;
   body["measurements"]["inseam"] = 80;  // an alias
   body["mesh"] = false;
   json j = post("/api/avatar", body);
-  EXPECT_EQ(j["report"]["regressor"], "R4");
+  EXPECT_EQ(j["report"]["regressor"], "map");
+  EXPECT_EQ(j["report"]["inputs"].size(), 4u);
   EXPECT_FALSE(j.contains("mesh"));
   EXPECT_NEAR(j["report"]["measurements"]["crotch_height"]["requested_cm"].get<double>(), 80.0, 1e-9);
 }

@@ -65,8 +65,10 @@ expect 0 "avatar glb + report" "$CALIPER" avatar --sex female --height 165 --wei
   --hip-width 36 -o "$TMP/a.glb" --report "$TMP/r.json"
 expect 0 "report is JSON with the documented fields" node -e '
   const r = JSON.parse(require("fs").readFileSync(process.argv[1]));
-  const ok = r.model && r.sex === "female" && r.regressor === "R5" && Array.isArray(r.beta) &&
+  const ok = r.model && r.sex === "female" && r.regressor === "map" && Array.isArray(r.beta) &&
     ["plausible","unusual","implausible"].includes(r.plausibility.verdict) &&
+    /of that population/.test(r.plausibility.rarity) && /ANSUR II/.test(r.plausibility.population) &&
+    Math.abs(r.measurements.stature.achieved_cm - 165) < 0.1 && Math.abs(r.measurements.weight.achieved_kg - 60) < 0.1 &&
     Math.abs(r.measurements.stature.requested_cm - 165) < 1e-9 &&
     typeof r.measurements.stature.achieved_cm === "number" &&
     typeof r.measurements.weight.achieved_kg === "number" &&
@@ -75,8 +77,10 @@ expect 0 "report is JSON with the documented fields" node -e '
 expect 0 "glb passes the Khronos validator" node "$SRC/tools/validate-gltf.mjs" "$TMP/a.glb"
 expect 0 "obj export" "$CALIPER" avatar --sex male --height 180 --weight 85 -o "$TMP/a.obj" -q
 expect 0 "measure the exported OBJ" "$CALIPER" measure --mesh "$TMP/a.obj" --sex male --json
-expect 0 "R2 via aliases and auto" "$CALIPER" avatar --sex male --height 180 --weight 85 -o "$TMP/b.glb" --report "$TMP/b.json" -q
-expect 0 "auto picked R2" grep -q '"regressor": "R2"' "$TMP/b.json"
+expect 0 "the paper's R2 by name" "$CALIPER" avatar --sex male --height 180 --weight 85 --regressor r2 -o "$TMP/b.glb" --report "$TMP/b.json" -q
+expect 0 "R2 was used" grep -q '"regressor": "R2"' "$TMP/b.json"
+expect 0 "BMI 40 by default" "$CALIPER" avatar --sex female --height 150 --weight 90 -o "$TMP/heavy.glb"
+says "verdict:" "the verdict is printed in words"
 expect 0 "model info" "$CALIPER" model info mannequin --sex male
 says "vertices" "model info lists counts"
 expect 0 "model list" "$CALIPER" model list
@@ -174,6 +178,33 @@ says "200 2" "two more points"
 expect 0 "the floor is calibrated" node "$TMP/cap.mjs" "$PORT" get "$SID"
 says "measuring 0 0.01" "floor at 1 cm, measuring"
 expect 0 "enter the weight" node "$TMP/cap.mjs" "$PORT" entries "$SID" "$CODE"
+# One estimator behind every path (issue 14): a self-measured set gives the same body from the
+# CLI, from the capture page's request, and from the desktop tool (which imports the set and
+# sends the noise its measured_by names).
+cat >"$TMP/selfset.json" <<'SET'
+{"format": "caliper-measurements", "version": 1, "sex": "female", "measured_by": "self",
+ "measurements": {"stature": 166.2, "weight": 63.5, "span": 170.1, "crotch_height": 77.4, "hip_breadth": 35.9, "arm_length": 60.2}}
+SET
+cat >"$TMP/same.mjs" <<'JS'
+// node same.mjs PORT SET.json CLI_REPORT.json — compares the CLI's β with the server's.
+import { readFileSync } from 'node:fs';
+const [port, setFile, cliFile] = process.argv.slice(2);
+const base = `http://127.0.0.1:${port}/api`;
+const post = async (path, body, type = 'application/json') =>
+  (await fetch(base + path, { method: 'POST', body, headers: { 'Content-Type': type } })).json();
+const set = JSON.parse(readFileSync(setFile, 'utf8'));
+const capture = await post('/avatar', JSON.stringify({ sex: set.sex, regressor: 'auto', noise: 'self', measurements: set.measurements }));
+const imported = await post('/measurement-set/import', readFileSync(setFile, 'utf8'));
+const desktop = await post('/avatar', JSON.stringify({ sex: imported.sex, regressor: 'auto', noise: imported.measured_by, measurements: imported.measurements }));
+const cli = JSON.parse(readFileSync(cliFile, 'utf8'));
+const diff = (a, b) => Math.max(...a.map((x, i) => Math.abs(x - b[i])));
+const d1 = diff(cli.beta, capture.report.beta), d2 = diff(cli.beta, desktop.report.beta);
+console.log(`measured_by ${imported.measured_by}; |cli - capture| ${d1}; |cli - desktop| ${d2}`);
+process.exit(d1 < 2e-6 && d2 < 2e-6 && cli.beta.length === capture.report.beta.length ? 0 : 1);
+JS
+expect 0 "CLI avatar from a self-measured set" "$CALIPER" avatar --measurements "$TMP/selfset.json" -o "$TMP/self.glb" --report "$TMP/self.json"
+expect 0 "the same body from the CLI, the capture page and the desktop tool" node "$TMP/same.mjs" "$PORT" "$TMP/selfset.json" "$TMP/self.json"
+says "measured_by self" "the desktop import keeps who measured"
 kill "$SERVE_PID"; wait "$SERVE_PID" 2>/dev/null
 expect 0 "sessions help" "$CALIPER" sessions --help
 expect 0 "sessions list" "$CALIPER" sessions --data "$CAP" list
@@ -183,6 +214,7 @@ expect 0 "sessions export csv" "$CALIPER" sessions --data "$CAP" export "$SID" -
 expect 0 "the export has the weight" grep -qx "weight,61.5,kg" "$TMP/me.csv"
 expect 0 "sessions export json to stdout" "$CALIPER" sessions --data "$CAP" export "$SID"
 says '"format": "caliper-measurements"' "the JSON measurement-set format"
+says '"measured_by": "self"' "a capture export says who measured"
 printf 'measurement,value,unit\nsex,male,\nstature,1800,mm\nweight,82,kg\n' >"$TMP/set.csv"
 expect 0 "avatar from a measurement set" "$CALIPER" avatar --measurements "$TMP/set.csv" -o "$TMP/set.obj"
 says "mannequin-male" "the file's sex is used"

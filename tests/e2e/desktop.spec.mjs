@@ -87,9 +87,10 @@ try {
   check(/plausible|unusual|implausible/.test(await page.locator('#verdict').innerText()), 'a verdict in words');
   if (screenshots) { mkdirSync(screenshots, { recursive: true }); await page.screenshot({ path: join(screenshots, 'desktop-tool.png') }); }
 
-  // Change values: type a height, nudge the weight slider with the keyboard.
+  // Change values: type a height, nudge the weight slider with the keyboard. (175 cm keeps this
+  // woman's default arm span and inseam inside the population: auto reproduces every value.)
   let n = await updates();
-  await page.fill('#in-stature', '186');
+  await page.fill('#in-stature', '175');
   await settle(n + 1);
   const weightSlider = page.locator('.row[data-name="weight"] input[type=range]');
   await weightSlider.focus();
@@ -98,9 +99,9 @@ try {
   await settle(n + 1);
   const tableB = await tableText();
   check(tableB !== tableA, 'the table changes with the values');
-  check((await cell('stature', 1)).startsWith('186.0'), 'the table shows the requested height', await cell('stature', 1));
+  check((await cell('stature', 1)).startsWith('175.0'), 'the table shows the requested height', await cell('stature', 1));
   const achieved = parseFloat(await cell('stature', 2));
-  check(Math.abs(achieved - 186) < 0.5, 'the avatar reaches the requested height', String(achieved));
+  check(Math.abs(achieved - 175) < 0.1, 'the avatar reaches the requested height', String(achieved));
   const weight = parseFloat(await page.inputValue('#in-weight'));
   check(Math.abs(weight - (67.8 + 4.0)) < 0.05, 'the slider drives the number field', String(weight));
   const second = await snapshot();
@@ -157,7 +158,8 @@ try {
   check(await page.inputValue('#sex') === 'male', 'the imported set sets the sex');
   check(parseFloat(await page.inputValue('#in-stature')) === 178.1, 'the imported set sets the height (mm → cm)', await page.inputValue('#in-stature'));
   check((await cell('chest_circumference', 1)).startsWith('99.0'), 'an imported non-input shows as requested vs avatar');
-  check(/R5/.test(await page.locator('#regressor-used').innerText()), 'five inputs pick R5');
+  check(/map · 6 inputs/.test(await page.locator('#regressor-used').innerText()), 'auto uses every imported value, chest included',
+    await page.locator('#regressor-used').innerText());
   const [setDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-set-csv')]);
   const setFile = join(tmp, setDownload.suggestedFilename());
   await setDownload.saveAs(setFile);
@@ -166,14 +168,28 @@ try {
     'the measurement set exports as CSV', setText);
   if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-imported.png') });
 
-  // The map estimator (issue 7): error bars per measurement, a heat map of the per-vertex SD,
-  // a warning naming an inconsistent value, and an export that still validates.
+  // The paper's presets stay selectable by name; who measured is auto's setting only.
   n = await updates();
-  await page.selectOption('#regressor', 'map');
+  await page.selectOption('#regressor', 'R5');
   await settle(n + 1);
-  check(/map/.test(await page.locator('#regressor-used').innerText()), 'map can be chosen');
-  check(await page.locator('#noise-row').isVisible(), 'map shows who measured');
-  check(await page.locator('#measurements th.sd-col').isVisible(), 'map adds the ± SD column');
+  check(/R5 · 5 inputs/.test(await page.locator('#regressor-used').innerText()), 'the paper\'s R5 can be chosen');
+  check(await page.locator('#noise-row').isHidden(), 'a preset takes its values as exact');
+  // The default estimator (issues 7, 14), self-measured values: error bars per measurement, a
+  // heat map of the per-vertex SD, a warning naming an inconsistent value, and an export that
+  // still validates.
+  n = await updates();
+  await page.selectOption('#regressor', 'auto');
+  await settle(n + 1);
+  n = await updates();
+  await page.selectOption('#noise', 'self');
+  await settle(n + 1);
+  check(/map/.test(await page.locator('#regressor-used').innerText()), 'auto is the noise-aware estimator');
+  check(await page.locator('#noise-row').isVisible(), 'auto shows who measured');
+  check(/self-measured/.test(await page.locator('#regressor-hint').innerText()), 'the hint says how values are weighed');
+  check(/of that population/.test(await page.locator('#explanation').innerText()), 'plausibility in words',
+    await page.locator('#explanation').innerText());
+  check(/ANSUR II/.test(await page.locator('#population').innerText()), 'the population is named');
+  check(await page.locator('#measurements th.sd-col').isVisible(), 'auto adds the ± SD column');
   const chestSd = await cell('chest_circumference', 4);
   check(/^±\d+\.\d\d$/.test(chestSd.trim()) && parseFloat(chestSd.slice(1)) > 0, 'each measurement has an error bar (± SD)', chestSd);
   check(await page.locator('#measurements tr[data-name="chest_circumference"] .errbar .whisker').count() === 1, 'the error bar is drawn');

@@ -94,11 +94,9 @@ TEST(Pose, RejectsWrongShapeAndNaN) {
   EXPECT_THROW(a_pose(m, 200), Error);
 }
 
-TEST(Regressor, PresetsAndAuto) {
+TEST(Regressor, Presets) {
   EXPECT_EQ(preset_inputs("R5").size(), 5u);
-  EXPECT_EQ(auto_preset({"stature", "weight", "span", "crotch_height"}), "R4");
-  EXPECT_EQ(auto_preset({"stature", "weight", "hip_breadth"}), "R2");
-  EXPECT_THROW(auto_preset({"stature"}), Error);
+  EXPECT_EQ(preset_inputs("R2"), (std::vector<std::string>{"stature", "weight"}));
   EXPECT_THROW(preset_inputs("R7"), Error);
 }
 
@@ -123,21 +121,44 @@ TEST(Regressor, TrainingIsBitForBitReproducible) {
   EXPECT_EQ(std::memcmp(ra.intercept().data(), rb.intercept().data(), sizeof(double) * ra.intercept().size()), 0);
 }
 
-TEST(Plausibility, Bands) {
+TEST(Plausibility, BandsPerValueAndJointVerdict) {
   Eigen::VectorXd b = Eigen::VectorXd::Zero(10);
   EXPECT_EQ(judge_plausibility(b).overall, Verdict::Plausible);
+  EXPECT_DOUBLE_EQ(judge_plausibility(b).tail_probability, 1.0);
   b(3) = 2.5;
   auto p = judge_plausibility(b);
   EXPECT_EQ(p.per_value[3], Verdict::Unusual);
-  EXPECT_EQ(p.overall, Verdict::Unusual);
+  // One value at 2.5 SD: 79 % of χ²₁₀ lies beyond ‖β‖² = 6.25; one of ten normals beyond 2.5 SD
+  // in 1 − (1 − 0.012419)¹⁰ = 11.73 % of people; doubled: an ordinary body.
+  EXPECT_EQ(p.overall, Verdict::Plausible);
+  EXPECT_NEAR(p.tail_probability, 2 * 0.11733, 1e-3);
   EXPECT_NE(p.explanation.find("shape 4"), std::string::npos);
-  b(3) = -3.5;
+  // One value at 3.3 SD: 1 − (1 − 0.000967)¹⁰ = 0.963 %, doubled 1.93 %: plausible but rare;
+  // at 3.6 SD (0.318 % ×10, doubled 0.636 %): unusual; at 5 SD: implausible.
+  b(3) = 3.3;
+  EXPECT_EQ(judge_plausibility(b).overall, Verdict::Plausible);
+  EXPECT_EQ(judge_plausibility(b).per_value[3], Verdict::Implausible);
+  b(3) = 3.6;
+  EXPECT_EQ(judge_plausibility(b).overall, Verdict::Unusual);
+  b(3) = 5.0;
   EXPECT_EQ(judge_plausibility(b).overall, Verdict::Implausible);
-  // Every value within 2 SD, but all ten at 1.9 SD together are far out (‖β‖² = 36.1 > χ²₁₀ 99.9 %).
-  Eigen::VectorXd all = Eigen::VectorXd::Constant(10, 1.9);
+  // Every value within 2 SD, but all ten at 1.9 SD together are far out (‖β‖² = 36.1, 0.008 %).
+  const Eigen::VectorXd all = Eigen::VectorXd::Constant(10, 1.9);
   auto q = judge_plausibility(all);
   EXPECT_EQ(q.per_value[0], Verdict::Plausible);
   EXPECT_EQ(q.overall, Verdict::Implausible);
+  EXPECT_NE(q.rarity.find("rarer than 1 in 1,000"), std::string::npos) << q.rarity;
+}
+
+// The χ² tail against values from statistical tables (k = 1: 3.841 → 5 %; k = 2: e^{−x/2};
+// k = 10: 23.209 → 1 %, 29.588 → 0.1 %; k = 25: 44.314 → 1 %; k = 30: 50.892 → 1 %).
+TEST(Plausibility, ChiSquareTailMatchesTables) {
+  EXPECT_NEAR(chi_square_tail(1, 3.841), 0.05, 1e-4);
+  EXPECT_NEAR(chi_square_tail(2, 3.0), std::exp(-1.5), 1e-12);
+  EXPECT_NEAR(chi_square_tail(10, 23.209), 0.01, 1e-4);
+  EXPECT_NEAR(chi_square_tail(10, 29.588), 0.001, 1e-5);
+  EXPECT_NEAR(chi_square_tail(30, 50.892), 0.01, 1e-4);
+  EXPECT_NEAR(chi_square_tail(25, 44.314), 0.01, 1e-4);
 }
 
 TEST(Avatar, BuildsAndReportsRequestedBesideAchieved) {
@@ -145,6 +166,7 @@ TEST(Avatar, BuildsAndReportsRequestedBesideAchieved) {
   AvatarBuilder builder(model);
   AvatarRequest req;
   req.measurements = measurements_from_edge({{"height", 175}, {"weight", 120}});
+  req.regressor = "R2";
   const Avatar a = builder.build(req);
   EXPECT_EQ(a.regressor, "R2");
   EXPECT_NEAR(a.achieved.at("stature"), 1.75, 1e-6);
@@ -154,6 +176,10 @@ TEST(Avatar, BuildsAndReportsRequestedBesideAchieved) {
   EXPECT_TRUE(j["measurements"]["weight"].contains("achieved_kg"));
   EXPECT_FALSE(j["measurements"]["crotch_height"].contains("requested_cm"));
   EXPECT_TRUE(j["plausibility"].contains("verdict"));
+  EXPECT_TRUE(j["plausibility"].contains("rarity"));
+  // The default, auto, is the noise-aware estimator over every value given.
+  req.regressor = "auto";
+  EXPECT_EQ(builder.build(req).regressor, "map");
   // R4 needs span and crotch height, which were not given.
   req.regressor = "R4";
   EXPECT_THROW(builder.build(req), Error);

@@ -11,6 +11,7 @@
 #endif
 
 #include "caliper/caliper.h"
+#include "caliper/mannequin/population.h"
 
 using namespace caliper;
 
@@ -38,7 +39,8 @@ TEST_P(BuiltinModel, CountsAndTopology) {
   EXPECT_LE(m->vertex_count(), 15000);
   EXPECT_EQ(m->joint_count(), 24);
   EXPECT_EQ(m->data().joint_names, smpl_joint_names());
-  EXPECT_EQ(m->shape_count(), 10);
+  // The committed models are built with the documented default K (scripts/build-models.sh).
+  EXPECT_EQ(m->shape_count(), mannequin::PopulationOptions{}.components);
   const MeshCheck c = check_mesh(m->faces(), m->vertex_count());
   EXPECT_TRUE(c.closed);
   EXPECT_TRUE(c.manifold);
@@ -204,22 +206,42 @@ TEST_P(BuiltinModel, AvatarsSayWhatTheyDidNotReproduce) {
   AvatarBuilder builder(model(GetParam()));
   AvatarRequest ordinary;
   ordinary.measurements = measurements_from_edge({{"stature", 170}, {"weight", 68}});
-  EXPECT_TRUE(builder.build(ordinary).warnings.empty());
+  const Avatar plain = builder.build(ordinary);
+  EXPECT_TRUE(plain.warnings.empty()) << plain.warnings[0];
+  // The default estimator reproduces values nobody said were noisy.
+  EXPECT_NEAR(plain.achieved.at("stature"), 1.70, 1e-3);
+  EXPECT_NEAR(plain.achieved.at("weight"), 68, 0.1);
   auto mentions = [](const Avatar& a, const std::string& what) {
     for (const auto& w : a.warnings)
       if (w.find(what) != std::string::npos) return true;
     return false;
   };
   AvatarRequest with_span = ordinary;
+  with_span.regressor = "R2";
   with_span.measurements = measurements_from_edge({{"stature", 170}, {"weight", 68}, {"span", 255}});
   const Avatar a = builder.build(with_span);
   EXPECT_EQ(a.regressor, "R2");
   EXPECT_TRUE(mentions(a, "span was given but R2 does not use it")) << (a.warnings.empty() ? "" : a.warnings[0]);
   AvatarRequest absurd = ordinary;
   absurd.measurements = measurements_from_edge({{"stature", 60}, {"weight", 290}});
-  const Avatar b = builder.build(absurd);
-  EXPECT_TRUE(mentions(b, "weight: the body reaches")) << (b.warnings.empty() ? "" : b.warnings[0]);
-  EXPECT_EQ(b.plausibility.overall, Verdict::Implausible);
+  absurd.regressor = "R2";
+  // The paper's R2 extrapolates linearly: the body is either refused (a section misses it) or
+  // built with a warning; never silently.
+  try {
+    const Avatar r2 = builder.build(absurd);
+    EXPECT_TRUE(mentions(r2, "weight: the body reaches")) << (r2.warnings.empty() ? "" : r2.warnings[0]);
+    EXPECT_EQ(r2.plausibility.overall, Verdict::Implausible);
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("does not cut the body"), std::string::npos) << e.what();
+  }
+  // The default gives the closest body inside the population instead, and says so.
+  absurd.regressor = "auto";
+  const Avatar best = builder.build(absurd);
+  EXPECT_TRUE(mentions(best, "outside the population")) << (best.warnings.empty() ? "" : best.warnings[0]);
+  EXPECT_GT(best.noise_widened, 1);
+  EXPECT_NE(best.plausibility.overall, Verdict::Implausible);
+  EXPECT_GT(best.achieved.at("stature"), 1.2);
+  EXPECT_FALSE(best.plausibility.drivers.empty());
 }
 
 INSTANTIATE_TEST_SUITE_P(Sexes, BuiltinModel, ::testing::Values(Sex::Female, Sex::Male, Sex::Neutral),

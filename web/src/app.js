@@ -58,7 +58,7 @@ const state = {
   sex: 'female',
   model: 'mannequin',
   regressor: 'auto',
-  noise: 'self',            // for "map": who measured (exact | self | other)
+  noise: 'exact',           // for auto: who measured (exact | self | other)
   vertexSd: null,           // Float32Array of per-vertex SD (m) from "map", else null
   values: {},               // input name → cm / kg
   use: {},                  // input name → sent or not
@@ -315,8 +315,8 @@ function buildInputs() {
       });
       use.addEventListener('change', () => {
         state.use[m.name] = use.checked;
-        // A preset's inputs are fixed: choosing others means auto (map takes whatever is checked).
-        if (state.regressor !== 'auto' && state.regressor !== 'map') { state.regressor = 'auto'; $('regressor').value = 'auto'; }
+        // A preset's inputs are fixed: choosing others means auto (it takes whatever is checked).
+        if (state.regressor !== 'auto') selectRegressor('auto');
         refreshRows();
         changed();
       });
@@ -350,8 +350,15 @@ function requestBody() {
   const measurements = { ...state.extra };
   for (const [name, used] of Object.entries(state.use)) if (used) measurements[name] = state.values[name];
   const body = { sex: state.sex, model: state.model, regressor: state.regressor, measurements };
-  if (state.regressor === 'map') body.noise = state.noise;
+  if (state.regressor === 'auto') body.noise = state.noise;
   return body;
+}
+
+// Auto weighs values by who measured them; the paper's presets take them as exact.
+function selectRegressor(name) {
+  state.regressor = name;
+  $('regressor').value = name;
+  $('noise-row').hidden = name !== 'auto';
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -418,22 +425,27 @@ function hintFor(report) {
   const names = report.inputs.map(friendly).join(', ');
   if (report.regressor === 'map') {
     const noise = report.uncertainty?.noise ?? state.noise;
-    return `map weighs every given value by its expected error (${noise}): ${names}. ± SD is the avatar's uncertainty.`;
+    const how = noise === 'exact' ? 'reproduces every given value' : `weighs every given value by its expected error (${noise}-measured)`;
+    return `auto ${how}: ${names}. ± SD is the avatar's uncertainty.`;
   }
-  return state.regressor === 'auto'
-    ? `auto chose ${report.regressor}: ${names}.`
-    : `${report.regressor} uses ${names}.`;
+  return `the paper's ${report.regressor} uses ${names}.`;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Results
+
+const capitalise = (text) => text.charAt(0).toUpperCase() + text.slice(1);
 
 function renderPlausibility(report) {
   const p = report.plausibility;
   const v = $('verdict');
   v.textContent = p.verdict;
   v.className = `verdict ${p.verdict}`;
-  $('explanation').textContent = p.explanation;
+  // In words a person can read: how rare, among whom, and why (issue 14).
+  const why = p.drivers?.length ? ` Mostly because ${p.drivers.slice(0, 2).join('; ')}.` : '';
+  $('explanation').textContent = `${capitalise(p.rarity ?? '')}${why}`;
+  $('explanation').title = `${p.population ? `Population: ${p.population}. ` : ''}Shape values: ${p.explanation}`;
+  $('population').textContent = p.population ? `Population: ${p.population}.` : '';
   const host = $('beta-bars');
   host.textContent = '';
   report.beta.forEach((b, k) => {
@@ -613,7 +625,9 @@ function applySet(set) {
     if (r.info.input.level === 1) continue;
     state.use[name] = name in set.measurements;
   }
-  if (state.regressor !== 'map') { state.regressor = 'auto'; $('regressor').value = 'auto'; }
+  selectRegressor('auto');
+  // A capture session's values say who measured them: auto weighs them accordingly.
+  if (set.measured_by) { state.noise = set.measured_by; $('noise').value = set.measured_by; }
   refreshRows();
   changed();
 }
@@ -649,10 +663,9 @@ async function start() {
   });
   $('model').addEventListener('change', (e) => { state.model = e.target.value; changed(); });
   $('regressor').addEventListener('change', (e) => {
-    state.regressor = e.target.value;
+    selectRegressor(e.target.value);
     const inputs = presetInputs(state.regressor);
     if (inputs) for (const name of rows.keys()) state.use[name] = inputs.includes(name);
-    $('noise-row').hidden = state.regressor !== 'map';
     refreshRows();
     changed();
   });

@@ -831,7 +831,7 @@ async function buildAvatar() {
   const [res, topo] = await Promise.all([
     // The noise-aware estimator: it weighs each captured value by how well people measure it
     // (self or other measurer, paper Table 2) and keeps the body plausible if one value is off.
-    api('/api/avatar', { method: 'POST', body: { sex, regressor: 'map', noise: s.mode === 'other' ? 'other' : 'self', measurements } }),
+    api('/api/avatar', { method: 'POST', body: { sex, regressor: 'auto', noise: s.mode === 'other' ? 'other' : 'self', measurements } }),
     api(`/api/topology?sex=${encodeURIComponent(sex)}`),
   ]);
   if (state.avatarKey !== key) return;      // a newer set arrived meanwhile

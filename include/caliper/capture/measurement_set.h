@@ -2,8 +2,11 @@
 // import/export format (docs/api.md "Measurement sets"). Capture exports them; `caliper avatar
 // --measurements FILE` reads them.
 //   JSON: {"format": "caliper-measurements", "version": 1, "sex": "female"|null, "model": null,
-//          "units": "lengths in cm, weight in kg", "measurements": {"stature": 165, …}}
-//   CSV:  measurement,value,unit / sex,female, / stature,165,cm …
+//          "measured_by": "self"|"other" (optional), "units": "lengths in cm, weight in kg",
+//          "measurements": {"stature": 165, …}}
+//   CSV:  measurement,value,unit / sex,female, / measured_by,self, / stature,165,cm …
+// `measured_by` says who took the values (a capture session writes it): the estimator then
+// weighs them with that setting's noise (paper Table 2) unless the user states another.
 #pragma once
 #include <map>
 #include <optional>
@@ -15,6 +18,7 @@ namespace caliper {
 
 struct MeasurementSetFile {
   std::optional<Sex> sex;
+  std::optional<std::string> measured_by;  // "self" or "other"
   std::map<std::string, double> edge;  // canonical name → cm or kg
 };
 
@@ -26,6 +30,10 @@ std::string write_measurement_set_csv(const MeasurementSetFile& set);
 // units cm/mm/m/in and kg/g/lb in CSV. Throws Error(Format) for a malformed file and
 // Error(InvalidArgument|OutOfRange) naming the measurement for a bad value.
 MeasurementSetFile parse_measurement_set(const std::string& text);
+
+namespace capture { class CaptureProtocol; }
+// A capture session's result as a measurement set: its settled values, sex and who measured.
+MeasurementSetFile measurement_set_of(const capture::CaptureProtocol& session);
 MeasurementSetFile read_measurement_set(const std::string& path);  // + Error(Io)
 
 }  // namespace caliper

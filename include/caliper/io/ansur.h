@@ -2,6 +2,7 @@
 // names case-insensitive, Latin-1, CRLF or LF, last line with or without newline, lengths in
 // mm, `weightkg` in tenths of kg, `interpupillarybreadth` in tenths of mm, sex from `Gender`.
 #pragma once
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@ struct AnsurSubject {
   std::string id;
   Sex sex = Sex::Neutral;
   std::map<std::string, double> values;  // lowercase column → value in SI (m, kg)
+  double age_years = std::nan("");        // the Age column, if present (describes the population)
 };
 
 // Reads every row. Numeric columns are converted to SI; text columns other than Gender and the

@@ -13,8 +13,12 @@
 
 namespace caliper::mannequin {
 
+constexpr int kMaxComponents = 64;
+
 struct PopulationOptions {
-  int components = 10;          // K shape directions kept (1..64)
+  // K shape directions kept (1..kMaxComponents). 25: the smallest K whose held-out error is
+  // within 1 % of the best, for women and men (`caliper model choose-k`, docs/mannequin.md).
+  int components = 25;
   int threads = 2;              // bodies are generated in parallel; results do not depend on it
   std::uint64_t seed = 20121;   // for the randomized SVD; fixed so builds are bit-for-bit equal
   std::function<void(int done, int total)> progress;  // optional, called from the main thread
@@ -62,8 +66,26 @@ struct RealToVirtualFit {
 RealToVirtualFit fit_real_to_virtual(const BodyModel& provisional, const Eigen::MatrixXd& bodies,
                                      const Eigen::RowVectorXd& mean, const std::vector<const AnsurSubject*>& subjects);
 
+// One generated body per subject of `sex` (Neutral: all subjects, each body generated with its
+// own sex): row i of `bodies` is subject i's rest vertices flattened (x0 y0 z0 x1 …, metres),
+// `volumes` their enclosed volumes (m³). `subjects` points into the vector it was made from.
+struct GeneratedPopulation {
+  std::vector<const AnsurSubject*> subjects;
+  Eigen::MatrixXd bodies;       // n × 3N
+  std::vector<double> volumes;  // n
+};
+GeneratedPopulation generate_population(const std::vector<AnsurSubject>& subjects, Sex sex, int threads,
+                                        const std::function<void(int done, int total)>& progress = {});
+
+// The model of a generated population: PCA (K = options.components), volume → weight, real →
+// virtual maps. `population.bodies` is centred in place. Throws Error(Format) if it has fewer
+// than K+1 bodies.
+BodyModel model_from_population(GeneratedPopulation& population, Sex sex, const PopulationOptions& options,
+                                PopulationReport* report = nullptr);
+
 // Builds the model for `sex` from the subjects of that sex (Neutral: all subjects, each body
-// generated with its own sex). Throws Error(Format) if fewer than K+1 subjects qualify.
+// generated with its own sex): generate_population, then model_from_population. Throws
+// Error(Format) if fewer than K+1 subjects qualify.
 BodyModel build_mannequin_model(const std::vector<AnsurSubject>& subjects, Sex sex,
                                 const PopulationOptions& options, PopulationReport* report = nullptr);
 

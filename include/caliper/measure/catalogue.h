@@ -28,5 +28,8 @@ const MeasurementInfo* find_measurement_info(const std::string& name_or_alias);
 double edge_to_si(const MeasurementInfo& info, double edge_value);
 double si_to_edge(const MeasurementInfo& info, double value_si);  // m → cm, kg → kg
 const char* edge_unit(const MeasurementInfo& info);                // "cm" or "kg"
+// An SI value of a named measurement as people read it, one decimal: "167.0 cm", "62.0 kg"
+// (an unknown name is taken as a length).
+std::string edge_text(const std::string& name, double value_si);
 
 }  // namespace caliper

@@ -12,6 +12,7 @@
 // weighed down (EM on leave-one-out responsibilities) rather than bending the whole body.
 #pragma once
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -54,6 +55,11 @@ struct MapOptions {
   // Share of inputs assumed to be gross errors (10σ wide) for self/other noise; 0 = pure Gaussian.
   double gross_error_rate = 0.02;
   double warn_sd = 3.0;                    // warn when a standardised residual exceeds this
+  // Whether a shape is inside the population (empty: no bound). When the inputs call for a body
+  // outside it (e.g. BMI 40 on a model of soldiers), every input's noise SD is widened by one
+  // common factor, the least that brings β̂ inside: the closest body the population holds,
+  // weighed as the inputs were, with a warning saying so.
+  std::function<bool(const Eigen::VectorXd& beta)> within_population;
 };
 
 struct MapInputFit {
@@ -64,6 +70,9 @@ struct MapInputFit {
   double expected = 0;      // what the other inputs predict for it (leave-one-out, linearised), SI
   double expected_sd = 0;   // SD of that prediction, SI
   double z = 0;             // (y − expected) / √(σ² + expected_sd²): N(0, 1) if consistent
+  // What the model's population has for it (the model linearised at its mean body), SI, and
+  // where the value stands there: (value − population_mean) / population_sd.
+  double population_mean = 0, population_sd = 0, population_z = 0;
 };
 
 struct MapEstimate {
@@ -75,7 +84,16 @@ struct MapEstimate {
   std::vector<std::string> warnings;             // plain words, the culprit named first
   int iterations = 0;                            // Levenberg–Marquardt iterations, all solves
   bool converged = false;
+  // > 1 when the inputs lay outside the population (MapOptions::within_population): the factor
+  // their noise SDs were widened by to reach the closest body inside it.
+  double noise_widened = 1;
 };
+
+// What makes a body unusual, in plain words, the strongest first: inputs 2 SD or more from the
+// population's average ("stature 160.0 cm is 2.6 SD below the population's average (162.9 cm)")
+// and inputs the others contradict ("span 200.0 cm is 4.2 SD longer than the other
+// measurements suggest (182.4 cm)"). Empty when nothing stands out.
+std::vector<std::string> describe_drivers(const BodyModel& model, const std::map<std::string, MapInputFit>& fits);
 
 // Holds what is fixed per model (its measurements, linearised at the mean body on first use);
 // const and thread-safe.
@@ -95,6 +113,11 @@ class MapEstimator {
     Eigen::MatrixXd j0;  // their Jacobian there
   };
   const Linearisation& at_mean() const;  // computed once, thread-safe
+  // One MAP solve with the given options (no population bound).
+  MapEstimate solve(const std::map<std::string, double>& values, const MapOptions& options) const;
+  // Re-solves with every input's noise widened until β̂ is within the population.
+  MapEstimate solve_within_population(const std::map<std::string, double>& values, const MapOptions& options,
+                                      const MapEstimate& unbounded) const;
 
   std::shared_ptr<const BodyModel> model_;
   std::vector<std::string> all_measurements_;

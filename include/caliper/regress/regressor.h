@@ -16,8 +16,6 @@ namespace caliper {
 // R5 = R4 + {hip_breadth}; R6 = R5 + {arm_length}.
 const std::vector<std::string>& preset_names();  // "R2", "R4", "R5", "R6"
 std::vector<std::string> preset_inputs(const std::string& preset);  // throws Error for unknown
-// The largest preset whose inputs are all among `known` (by canonical name); throws if not even R2.
-std::string auto_preset(const std::vector<std::string>& known);
 
 // The measurement matrix over the corners: one row per corner body, one column per measurement
 // of the model (weight column holds cbrt(volume)). Computed once per model and shared.
@@ -51,18 +49,30 @@ class Regressor {
   Eigen::VectorXd c_;
 };
 
-// Plausibility of shape values (paper §5: values turn red when implausible). Bands:
-//   |β_k| ≤ 2 plausible, 2 < |β_k| ≤ 3 unusual, |β_k| > 3 implausible (per value);
-//   overall: the worst value, raised to "unusual" when ‖β‖² exceeds the χ²_K 99 % quantile and
-//   to "implausible" beyond the 99.9 % quantile.
+// Plausibility of a body in its model's population (paper §5: values turn red when
+// implausible). β ~ N(0, I) over the population: ‖β‖² follows χ²_K and max |β_k| the largest of
+// K standard normals; the share of the population's people further out than this body, by the
+// rarer of the two (doubled, for testing twice), is its tail probability.
+//   overall: plausible, unusual when that share is below 1 %, implausible below 0.1 %;
+//   per value (the sliders' colours): |β_k| ≤ 2 plausible, 2 < |β_k| ≤ 3 unusual, > 3 implausible.
+// The overall verdict accounts for K: with 30 directions one person in 14 has some |β_k| > 3,
+// so a single value beyond 3 colours its slider without making the body implausible.
 enum class Verdict { Plausible, Unusual, Implausible };
 const char* to_string(Verdict verdict);
 struct Plausibility {
   std::vector<Verdict> per_value;
   Verdict overall = Verdict::Plausible;
-  double mahalanobis_sq = 0;  // ‖β‖²
-  std::string explanation;    // plain words: which values and why
+  double mahalanobis_sq = 0;    // ‖β‖²
+  double tail_probability = 1;  // share of the population further from its average (see above)
+  std::string rarity;           // the same in words ("rarer than 1 in 1,000 people of that population")
+  std::string population;       // whom "population" means: the model's `population` metadata
+  std::vector<std::string> drivers;  // what makes the body unusual, in plain words (auto / map)
+  std::string explanation;      // plain words: which values and why
 };
 Plausibility judge_plausibility(const Eigen::VectorXd& beta);
+
+// Upper tail P(X > x) of the χ² distribution with k degrees of freedom (exact closed forms for
+// integer k).
+double chi_square_tail(int k, double x);
 
 }  // namespace caliper
