@@ -60,7 +60,7 @@ void print_table(const std::string& title, const std::map<std::string, MethodEva
 
 void register_eval(CLI::App& app) {
   auto o = std::make_shared<SubjectsOptions>();
-  auto regressors = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"R2", "R4", "R5", "R6"});
+  auto regressors = std::make_shared<std::vector<std::string>>(std::vector<std::string>{"R2", "R4", "R5", "R6", "auto"});
   auto noise = std::make_shared<std::string>("none");
   auto map_noise = std::make_shared<std::string>();
   auto seed = std::make_shared<std::uint64_t>(1);
@@ -133,7 +133,7 @@ void register_eval(CLI::App& app) {
 void register_batch(CLI::App& app) {
   auto o = std::make_shared<SubjectsOptions>();
   auto out = std::make_shared<std::string>();
-  auto regressor = std::make_shared<std::string>("R5");
+  auto regressor = std::make_shared<std::string>("auto");
   auto format = std::make_shared<std::string>("glb");
   CLI::App* cmd = app.add_subcommand("batch", "Write one avatar and one JSON report per row of an ANSUR II-format CSV");
   cmd->add_option("--subjects", o->subjects, "CSV in the ANSUR II public format")->required();

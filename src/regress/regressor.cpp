@@ -204,7 +204,7 @@ namespace {
 std::string rarity_words(double tail) {
   std::ostringstream s;
   if (tail >= 0.1) {
-    s << "typical: about " << static_cast<int>(std::round(tail * 100))
+    s << "typical: about " << std::min(99, static_cast<int>(std::round(tail * 100)))
       << " in 100 people of that population are further from its average";
   } else if (tail >= 1e-3) {
     const double one_in = 1 / tail;
