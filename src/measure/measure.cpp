@@ -78,9 +78,10 @@ void add_section_point_gradient(const SectionPoint& s, const Eigen::Vector3d& g,
 }
 
 // The value of `def` on `rest`; with `gradient`, also ∂value/∂v as sparse terms (exact wherever
-// the value is differentiable; at a tie the extreme point found first).
+// the value is differentiable; at a tie the extreme point found first), or for weight in `dense`.
 double measure_with(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
-                    const Faces& section_faces, SectionCache* cache, std::vector<GradientTerm>* gradient) {
+                    const Faces& section_faces, SectionCache* cache, std::vector<GradientTerm>* gradient,
+                    Eigen::VectorXd* dense = nullptr) {
   SectionLoop own;
   switch (def.kind) {
     case MeasurementKind::Height: {
@@ -156,19 +157,18 @@ double measure_with(const BodyModel& model, const MeasurementDefinition& def, co
     }
     case MeasurementKind::Weight: {
       const auto& c = model.data().weight_from_volume;
-      if (gradient) {
+      if (dense) {
         // ∂V/∂v sums (b × c)/6 over the faces at v, cyclically.
         const Faces& faces = model.faces();
-        std::vector<Eigen::Vector3d> dv(static_cast<size_t>(rest.rows()), Eigen::Vector3d::Zero());
+        dense->setZero(rest.size());
         for (Eigen::Index f = 0; f < faces.rows(); ++f) {
           const int i0 = faces(f, 0), i1 = faces(f, 1), i2 = faces(f, 2);
           const Eigen::Vector3d a = rest.row(i0), b = rest.row(i1), cc = rest.row(i2);
-          dv[static_cast<size_t>(i0)] += b.cross(cc) / 6;
-          dv[static_cast<size_t>(i1)] += cc.cross(a) / 6;
-          dv[static_cast<size_t>(i2)] += a.cross(b) / 6;
+          dense->segment<3>(3 * i0) += b.cross(cc);
+          dense->segment<3>(3 * i1) += cc.cross(a);
+          dense->segment<3>(3 * i2) += a.cross(b);
         }
-        gradient->reserve(gradient->size() + dv.size());
-        for (size_t i = 0; i < dv.size(); ++i) gradient->push_back({static_cast<int>(i), c.a * dv[i]});
+        *dense *= c.a / 6;
       }
       return c.a * signed_volume(rest, model.faces()) + c.b;
     }
@@ -190,7 +190,7 @@ double measure(const BodyModel& model, const MeasurementDefinition& def, const V
 MeasurementGradient measure_with_gradient(const BodyModel& model, const MeasurementDefinition& definition,
                                           const Vertices& rest, const Faces& section_faces) {
   MeasurementGradient out;
-  out.value = measure_with(model, definition, rest, section_faces, nullptr, &out.terms);
+  out.value = measure_with(model, definition, rest, section_faces, nullptr, &out.terms, &out.dense);
   return out;
 }
 

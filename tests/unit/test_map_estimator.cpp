@@ -358,6 +358,7 @@ TEST(MeasurementGradient, MatchesFiniteDifferencesAlongShapeDirections) {
     for (int j = 0; j < std::min(3, model.shape_count()); ++j) {
       double predicted = 0;
       for (const auto& term : g.terms) predicted += term.d.dot(s.col(j).segment<3>(3 * term.vertex));
+      if (g.dense.size()) predicted += g.dense.dot(s.col(j));
       Vertices up = rest, down = rest;
       Eigen::Map<Eigen::VectorXd>(up.data(), up.size()) += kStep * s.col(j);
       Eigen::Map<Eigen::VectorXd>(down.data(), down.size()) -= kStep * s.col(j);

@@ -17,8 +17,8 @@ double measure(const BodyModel& model, const MeasurementDefinition& definition, 
                const Faces& section_faces);
 
 // A measurement's value with its gradient with respect to the rest vertices: ∂value/∂v as terms
-// (vertex, 3-vector) for the few vertices it depends on (every vertex for weight); a vertex may
-// appear more than once (terms add). Exact wherever the value is differentiable. Used to
+// (vertex, 3-vector) for the few vertices it depends on (weight: a dense 3N vector); a vertex
+// may appear more than once (terms add). Exact wherever the value is differentiable. Used to
 // linearise measurements in β without finite differences (vertices are linear in β).
 struct GradientTerm {
   int vertex = 0;
@@ -27,6 +27,9 @@ struct GradientTerm {
 struct MeasurementGradient {
   double value = 0;
   std::vector<GradientTerm> terms;
+  // Weight depends on every vertex: its gradient comes dense instead, 3N (x0 y0 z0 x1 …), and
+  // `terms` is empty.
+  Eigen::VectorXd dense;
 };
 MeasurementGradient measure_with_gradient(const BodyModel& model, const MeasurementDefinition& definition,
                                           const Vertices& rest, const Faces& section_faces);
