@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates docs/evaluation.md, its plots and raw JSON from the ANSUR II development data:
 # caliper eval per sex and noise setting (none, self, other), plus the synthetic surface study;
-# the self-noise runs also evaluate the noise-aware estimator `map` (issue 7), whose section
-# tools/eval-map-section.mjs adds to the page.
+# every run also evaluates the default estimator `auto` (issues 7, 14) against the linear limit;
+# tools/eval-map-section.mjs adds its self-noise section (uncertainty calibration) to the page.
 # Usage: scripts/evaluate.sh [ANSUR_DIR]   (default ../shared/data/ansur2)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,8 +16,7 @@ for sex in female male; do
   for noise in none self other; do
     synthetic=()
     if [ "$noise" != none ] && [ "$sex" = female ]; then synthetic=(--synthetic 100); fi  # both sexes
-    regressors=R2,R4,R5,R6
-    if [ "$noise" = self ]; then regressors=R2,R4,R5,R6,map; fi
+    regressors=R2,R4,R5,R6,auto
     echo "[caliper] eval $sex, noise $noise, $regressors"
     build/bin/caliper eval --subjects "$file" --noise "$noise" --seed 1 -q --json "$out/$sex-$noise.json" \
       --regressor "$regressors" "${synthetic[@]}"

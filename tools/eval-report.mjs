@@ -8,20 +8,13 @@ if (!dir || !outMd) { console.error('usage: node tools/eval-report.mjs DIR OUT.m
 const load = (sex, noise) => JSON.parse(fs.readFileSync(path.join(dir, `${sex}-${noise}.json`), 'utf8'));
 const sexes = ['female', 'male'];
 const noises = ['none', 'self', 'other'];
-const R = ['R2', 'R4', 'R5', 'R6'];
+const R = ['R2', 'R4', 'R5', 'R6', 'auto'];
 const heldOut = ['chestcircumference', 'waistcircumference', 'buttockcircumference', 'thighcircumference',
   'calfcircumference', 'biacromialbreadth', 'chestbreadth', 'chestdepth', 'waistbreadth', 'waistdepth',
   'acromialheight', 'waistheightomphalion'];
-// Direct least-squares regression of each column on the six inputs, MAE in mm, from the
-// ANSUR II data README (fitted on alternate rows, evaluated on the others): the bar to clear.
-const linear = {
-  male: { chestcircumference: 25.6, waistcircumference: 33.2, buttockcircumference: 13.5, thighcircumference: 17.0,
-    calfcircumference: 12.9, biacromialbreadth: 10.2, chestbreadth: 10.2, chestdepth: 9.6, waistbreadth: 10.9,
-    waistdepth: 13.0, acromialheight: 11.2, waistheightomphalion: 13.0 },
-  female: { chestcircumference: 32.9, waistcircumference: 37.2, buttockcircumference: 12.8, thighcircumference: 16.0,
-    calfcircumference: 13.2, biacromialbreadth: 9.6, chestbreadth: 9.7, chestdepth: 12.0, waistbreadth: 13.4,
-    waistdepth: 12.4, acromialheight: 10.1, waistheightomphalion: 12.0 },
-};
+// The linear limit of each method (`caliper eval`, issue 14): least squares from the method's own
+// inputs straight to each column, cross-validated over the same subjects. auto's uses all six.
+const linearOf = (d, c) => d.regressors.auto?.linear_limit?.[c]?.mae_cm;
 const f = (x, d = 2) => (x === undefined || x === null ? '–' : Number(x).toFixed(d));
 const lines = [];
 const p = (s = '') => lines.push(s);
@@ -29,8 +22,8 @@ const p = (s = '') => lines.push(s);
 function barChart(sex, data) {
   // Held-out MAE (cm) per column, one bar per method.
   const methods = [...R, 'uniform'];
-  const colours = { R2: '#9bb7d4', R4: '#5b8db8', R5: '#2f5f8a', R6: '#1a3550', uniform: '#d9a441' };
-  const W = 1000, rowH = 26, top = 40, left = 190, H = top + heldOut.length * rowH + 40;
+  const colours = { R2: '#9bb7d4', R4: '#5b8db8', R5: '#2f5f8a', R6: '#1a3550', auto: '#27ae60', uniform: '#d9a441' };
+  const W = 1100, rowH = 30, top = 40, left = 190, H = top + heldOut.length * rowH + 40;
   const max = Math.max(...heldOut.flatMap(c => methods.map(m => (m === 'uniform'
     ? data.baselines.uniform_scale.held_out[c].mae_cm : data.regressors[m].held_out[c].mae_cm))));
   const scale = (W - left - 160) / max;
@@ -43,14 +36,14 @@ function barChart(sex, data) {
       const v = m === 'uniform' ? data.baselines.uniform_scale.held_out[c].mae_cm : data.regressors[m].held_out[c].mae_cm;
       svg += `<rect x="${left}" y="${y + j * 4 + 2}" width="${(v * scale).toFixed(1)}" height="4" fill="${colours[m]}"/>`;
     });
-    const lin = linear[sex][c] / 10;
+    const lin = linearOf(data, c);
     svg += `<line x1="${left + lin * scale}" x2="${left + lin * scale}" y1="${y}" y2="${y + 22}" stroke="#c0392b" stroke-width="2"/>`;
   });
   const ly = top + heldOut.length * rowH + 15;
   methods.forEach((m, j) => {
     svg += `<rect x="${left + j * 110}" y="${ly}" width="12" height="12" fill="${colours[m]}"/><text x="${left + j * 110 + 16}" y="${ly + 11}">${m === 'uniform' ? 'uniform scale' : m}</text>`;
   });
-  svg += `<line x1="${left + 560}" x2="${left + 560}" y1="${ly}" y2="${ly + 12}" stroke="#c0392b" stroke-width="2"/><text x="${left + 566}" y="${ly + 11}">linear regression on the 6 inputs</text>`;
+  svg += `<line x1="${left + 680}" x2="${left + 680}" y1="${ly}" y2="${ly + 12}" stroke="#c0392b" stroke-width="2"/><text x="${left + 686}" y="${ly + 11}">linear limit (6 inputs)</text>`;
   return svg + '</svg>\n';
 }
 
@@ -82,20 +75,29 @@ for (const sex of sexes) {
     p(`| ${r} | ${inputs.map(k => ins[k] ? `${f(ins[k].mae_cm ?? ins[k].mae_kg)} / ${f(ins[k].max_cm ?? ins[k].max_kg)}` : '').join(' | ')} |`);
   }
   p();
-  p('**Held-out accuracy** (avatar − measured: MAE, bias in parentheses; cm). The last column is a direct');
-  p('linear regression of that column on the same six inputs (from the ANSUR II data README): a body');
-  p('model that goes through a shape space should come close to it.');
+  p('**Held-out accuracy** (avatar − measured: MAE, bias in parentheses; cm). The last column is the');
+  p('linear limit: a least-squares regression of that column straight on the six inputs, 10-fold');
+  p('cross-validated over the same people (`caliper eval` computes it; `--train FILE` fits it on another');
+  p('file). A body model that goes through a shape space should come close to it.');
   p();
-  p(`| measurement | ${R.join(' | ')} | uniform scale | linear regression |`);
+  p(`| measurement | ${R.join(' | ')} | uniform scale | linear limit (6 inputs) |`);
   p(`|---|${R.map(() => '---').join('|')}|---|---|`);
   const rows = [...heldOut, 'span', 'crotchheight', 'hipbreadth', 'armlength', 'weight'];
   for (const c of rows) {
     const cell = (me) => { const s = me.held_out[c]; if (!s) return '*input*'; const u = c === 'weight' ? 'kg' : 'cm';
       return `${f(s[`mae_${u}`])} (${f(s[`bias_${u}`])})`; };
-    p(`| ${c} | ${R.map(r => cell(d.regressors[r])).join(' | ')} | ${cell(d.baselines.uniform_scale)} | ${linear[sex][c] ? f(linear[sex][c] / 10) : ''} |`);
+    p(`| ${c} | ${R.map(r => cell(d.regressors[r])).join(' | ')} | ${cell(d.baselines.uniform_scale)} | ${linearOf(d, c) !== undefined ? f(linearOf(d, c)) : ''} |`);
   }
   p();
-  p(`Implausible avatars (any |β| > 3 or ‖β‖² beyond χ²'s 99.9 %): ${R.map(r => `${r} ${f(d.regressors[r].implausible_share * 100, 1)} %`).join(', ')}.`);
+  p('**Against the linear limit from the same inputs** (each method\'s held-out MAE / the MAE of a linear');
+  p('regression from *its own* inputs, over the twelve held-out columns; 1.00 = as good as the limit):');
+  p();
+  p('| | ' + R.join(' | ') + ' |');
+  p(`|---|${R.map(() => '---').join('|')}|`);
+  p(`| median ratio | ${R.map(r => f(d.regressors[r].ratio_to_linear_median)).join(' | ')} |`);
+  p(`| worst ratio | ${R.map(r => { const w = d.regressors[r].ratio_to_linear_worst; return w ? `${f(w.ratio)} (${w.column})` : '–'; }).join(' | ')} |`);
+  p();
+  p(`Implausible avatars (rarer than 1 in 1,000 people of the population; for auto also bodies moved back inside it): ${R.map(r => `${r} ${f(d.regressors[r].implausible_share * 100, 1)} %`).join(', ')}.`);
   p();
   fs.writeFileSync(path.join(path.dirname(outMd), 'evaluation', `held-out-${sex}.svg`), barChart(sex, d));
   p(`![Held-out MAE per measurement, ${sex}](evaluation/held-out-${sex}.svg)`);
@@ -113,6 +115,17 @@ for (const sex of sexes) for (const noise of noises) {
   const d = load(sex, noise);
   const c = (r) => ['chestcircumference', 'waistcircumference', 'buttockcircumference'].map(k => f(d.regressors[r].held_out[k].mae_cm, 1)).join(' / ');
   p(`| ${sex} | ${noise} | ${R.map(c).join(' | ')} | ${R.map(r => f(d.regressors[r].implausible_share * 100, 1) + ' %').join(' | ')} |`);
+}
+p();
+p('The default estimator with noise, against itself without (mean held-out MAE over the twelve columns, cm;');
+p('it assumes the noise it is given: `--noise self` / `other`):');
+p();
+p('| sex | none | self | other | self / none | other / none |');
+p('|---|---|---|---|---|---|');
+for (const sex of sexes) {
+  const mean = (noise) => { const h = load(sex, noise).regressors.auto.held_out; return heldOut.reduce((a, c) => a + h[c].mae_cm, 0) / heldOut.length; };
+  const [a, b, c] = noises.map(mean);
+  p(`| ${sex} | ${f(a)} | ${f(b)} | ${f(c)} | ${f(b / a)} | ${f(c / a)} |`);
 }
 p();
 p('## Synthetic surface study (Table 4 in spirit)');

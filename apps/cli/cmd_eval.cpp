@@ -38,12 +38,18 @@ void print_table(const std::string& title, const std::map<std::string, MethodEva
       std::cout << "    " << std::left << std::setw(24) << k << std::right << std::setprecision(2) << std::setw(7)
                 << s.mae * (kg ? 1 : 100) << std::setw(9) << s.max * (kg ? 1 : 100) << (kg ? " kg" : " cm") << "\n";
     }
-    std::cout << "  held out (avatar − measured)  MAE     bias\n";
+    std::cout << "  held out (avatar − measured)  MAE     bias    linear limit  ratio\n";
     for (const auto& [k, s] : me.held_out) {
       const bool kg = k == "weight";
       std::cout << "    " << std::left << std::setw(24) << k << std::right << std::setprecision(2) << std::setw(7)
-                << s.mae * (kg ? 1 : 100) << std::setw(9) << s.bias * (kg ? 1 : 100) << (kg ? " kg" : " cm") << "\n";
+                << s.mae * (kg ? 1 : 100) << std::setw(9) << s.bias * (kg ? 1 : 100) << (kg ? " kg" : " cm");
+      if (auto l = me.linear_limit.find(k); l != me.linear_limit.end())
+        std::cout << std::setw(9) << l->second.mae * 100 << " cm" << std::setw(7) << me.ratio_to_linear.at(k);
+      std::cout << "\n";
     }
+    if (!me.ratio_to_linear.empty())
+      std::cout << "  held out / linear limit: median " << std::setprecision(3) << me.ratio_median << ", worst "
+                << me.ratio_worst << " (" << me.ratio_worst_column << ")\n";
     if (!me.calibration.empty()) {
       std::cout << "  calibration (truth within)    ±1 SD    ±2 SD  mean SD\n";
       for (const auto& [k, c] : me.calibration) {
@@ -67,6 +73,7 @@ void register_eval(CLI::App& app) {
   auto json = std::make_shared<std::string>();
   auto synthetic = std::make_shared<int>(0);
   auto quiet = std::make_shared<bool>(false);
+  auto train = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand("eval",
       "Evaluate regressors on real people: avatars from each subject's Virtual Caliper inputs, compared with their "
       "ANSUR II measurements (paper Table 1 and held-out accuracy)");
@@ -84,6 +91,8 @@ void register_eval(CLI::App& app) {
   cmd->add_option("--json", *json, "write the results as JSON to this file");
   cmd->add_option("--synthetic", *synthetic,
                   "also run the synthetic surface study on this many bodies per sex drawn from the model (0 = off)");
+  cmd->add_option("--train", *train,
+                  "ANSUR II-format CSV the linear limit is fitted on (default: 10-fold cross-validation over --subjects)");
   cmd->add_flag("-q,--quiet", *quiet, "no tables on stdout");
   cmd->callback([=] {
     EvaluationOptions opt;
@@ -97,6 +106,11 @@ void register_eval(CLI::App& app) {
       throw Error(ErrorKind::OutOfRange, "--synthetic must be in [0, 100000]", "--synthetic");
     const auto subjects = read_ansur_csv(o->subjects);
     if (subjects.empty()) throw Error(ErrorKind::Format, "'" + o->subjects + "' has no subjects", "--subjects");
+    std::vector<AnsurSubject> training;
+    if (!train->empty()) {
+      training = read_ansur_csv(*train);
+      opt.linear_training = &training;
+    }
     const auto start = std::chrono::steady_clock::now();
     const auto builders = builders_for(o->model);  // one trained builder per sex, shared by the study below
     const Evaluation ev = evaluate_subjects(subjects, builders, opt);
@@ -119,7 +133,7 @@ void register_eval(CLI::App& app) {
     const std::string text = result.dump(2) + "\n";
     if (!*quiet) {
       std::cout << ev.subjects << " subjects, noise " << to_string(ev.noise) << ", " << std::fixed << std::setprecision(2)
-                << seconds << " s\n";
+                << seconds << " s; linear limit: " << ev.linear_limit_fitted_on << "\n";
       print_table("regressor", ev.regressors);
       print_table("baseline", ev.baselines);
     }

@@ -5,9 +5,12 @@
 #include <atomic>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <thread>
+#include <tuple>
 
 #include "caliper/errors.h"
+#include "caliper/evaluation/linear_limit.h"
 #include "caliper/measure/catalogue.h"
 #include "caliper/measure/measure.h"
 #include "caliper/random.h"
@@ -73,6 +76,7 @@ const std::vector<std::pair<std::string, std::string>>& input_keys() {
 struct SubjectErrors {
   std::map<std::string, std::map<std::string, double>> inputs, inputs_vs_truth, held_out;
   std::map<std::string, bool> implausible, failed;
+  std::map<std::string, std::map<std::string, double>> linear;  // the linear limit's errors, per method
   // "map": per key, |avatar − truth| / predicted SD and the SD itself.
   std::map<std::string, std::map<std::string, std::pair<double, double>>> standardised;
 };
@@ -97,8 +101,11 @@ std::vector<std::string> measured_names() {
   return names;
 }
 
+// The linear limits that predict one subject, by method (null: none for that method).
+using LimitsFor = std::function<const LinearLimit*(const std::string& method)>;
+
 void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Vertices& mean_body,
-                  const EvaluationOptions& opt, std::uint64_t subject_seed, SubjectErrors& out) {
+                  const EvaluationOptions& opt, std::uint64_t subject_seed, const LimitsFor& limits, SubjectErrors& out) {
   const std::map<std::string, double> truth = virtual_caliper_inputs(s);
   std::map<std::string, double> noisy = truth;
   NormalGenerator rng(subject_seed);
@@ -173,6 +180,14 @@ void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Ver
     if (out.held_out.count("R2")) out.held_out["baseline:R2"] = out.held_out["R2"];
     if (out.implausible.count("R2")) out.implausible["baseline:R2"] = out.implausible["R2"];
   }
+  // The linear limit of each method, from the same noisy inputs.
+  std::vector<std::string> all_methods = methods;
+  if (opt.baselines) all_methods.push_back("baseline:uniform_scale");
+  if (opt.baselines && r2_evaluated) all_methods.push_back("baseline:R2");
+  for (const auto& method : all_methods)
+    if (const LinearLimit* limit = limits(method))
+      for (const auto& [col, m] : held_out_columns())
+        if (auto t = s.values.find(col); t != s.values.end()) out.linear[method][col] = limit->predict(col, noisy) - t->second;
   if (opt.baselines) {
     // The mean body scaled uniformly (about the floor centre) to the subject's stature.
     const Vertices& mean = mean_body;
@@ -185,7 +200,82 @@ void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Ver
   }
 }
 
+constexpr int kLinearFolds = 10;
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ",") + n;
+  return out;
+}
+
+// Linear limits by (sex, inputs, fold): one fit per sex and input set on the training file, or
+// one per fold for cross-validation (fold f is fitted on the same sex's subjects outside it).
+using LinearLimits = std::map<std::tuple<Sex, std::string, int>, LinearLimit>;
+
+LinearLimits fit_linear_limits(const std::vector<AnsurSubject>& subjects, const EvaluationOptions& opt) {
+  std::vector<std::string> methods = opt.regressors;
+  if (opt.baselines) { methods.push_back("baseline:uniform_scale"); methods.push_back("baseline:R2"); }
+  std::vector<std::string> columns;
+  for (const auto& [col, m] : held_out_columns())
+    if (std::any_of(subjects.begin(), subjects.end(), [&](const AnsurSubject& s) { return s.values.count(col) > 0; }))
+      columns.push_back(col);
+  LinearLimits limits;
+  if (columns.empty()) return limits;
+  std::set<Sex> sexes;
+  for (const auto& s : subjects) sexes.insert(s.sex);
+  for (Sex sex : sexes)
+    for (const auto& method : methods) {
+      const std::vector<std::string> inputs = method_inputs(method);
+      const int folds = opt.linear_training ? 1 : kLinearFolds;
+      for (int f = 0; f < folds; ++f) {
+        const auto key = std::make_tuple(sex, joined(inputs), f);
+        if (limits.count(key)) continue;
+        std::vector<const AnsurSubject*> training;
+        const std::vector<AnsurSubject>& pool = opt.linear_training ? *opt.linear_training : subjects;
+        for (size_t i = 0; i < pool.size(); ++i)
+          if (pool[i].sex == sex && (opt.linear_training || static_cast<int>(i % kLinearFolds) != f)) training.push_back(&pool[i]);
+        try {
+          limits.emplace(key, LinearLimit(training, inputs, columns));
+        } catch (const Error&) {
+          // Too few people of this sex to fit it (a small file): no limit, no ratios, said below.
+        }
+      }
+    }
+  return limits;
+}
+
+// Ratios of a method's held-out MAE to its linear limit's, and their median and worst.
+void compare_with_linear(MethodEvaluation& me) {
+  std::vector<std::pair<double, std::string>> ratios;
+  for (const auto& [col, m] : held_out_columns()) {
+    auto a = me.held_out.find(col);
+    auto l = me.linear_limit.find(col);
+    if (a == me.held_out.end() || l == me.linear_limit.end() || l->second.mae <= 0) continue;
+    me.ratio_to_linear[col] = a->second.mae / l->second.mae;
+    ratios.emplace_back(me.ratio_to_linear[col], col);
+  }
+  if (ratios.empty()) return;
+  std::sort(ratios.begin(), ratios.end());
+  const size_t n = ratios.size();
+  me.ratio_median = n % 2 ? ratios[n / 2].first : (ratios[n / 2 - 1].first + ratios[n / 2].first) / 2;
+  me.ratio_worst = ratios.back().first;
+  me.ratio_worst_column = ratios.back().second;
+}
+
 }  // namespace
+
+std::vector<std::string> method_inputs(const std::string& method) {
+  if (method == "baseline:uniform_scale") return {"stature"};
+  const std::string name = method.rfind("baseline:", 0) == 0 ? method.substr(9) : method;
+  std::string upper = name;
+  for (auto& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (upper == "AUTO" || upper == "MAP") {
+    std::vector<std::string> all;
+    for (const auto& [canonical, key] : input_keys()) all.push_back(canonical);
+    return all;
+  }
+  return preset_inputs(upper);
+}
 
 Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
                              const std::function<std::shared_ptr<const AvatarBuilder>(Sex)>& builder_for,
@@ -205,13 +295,19 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
       builders[s.sex] = builder_for(s.sex);
       means[s.sex] = builders[s.sex]->model().rest_vertices(Eigen::VectorXd());
     }
+  const LinearLimits limits = fit_linear_limits(subjects, opt);
   std::vector<SubjectErrors> per(static_cast<size_t>(n));
   const std::vector<std::string> errors = detail::parallel_for(
       n, opt.threads,
       [&](int i) {
         const Sex sex = subjects[static_cast<size_t>(i)].sex;
+        const int fold = opt.linear_training ? 0 : i % kLinearFolds;
+        const LimitsFor limits_for = [&](const std::string& method) -> const LinearLimit* {
+          auto it = limits.find({sex, joined(method_inputs(method)), fold});
+          return it == limits.end() ? nullptr : &it->second;
+        };
         evaluate_one(subjects[static_cast<size_t>(i)], *builders.at(sex), means.at(sex), opt,
-                     opt.seed * 1000003ULL + static_cast<std::uint64_t>(i), per[static_cast<size_t>(i)]);
+                     opt.seed * 1000003ULL + static_cast<std::uint64_t>(i), limits_for, per[static_cast<size_t>(i)]);
       },
       opt.progress);
   for (int i = 0; i < n; ++i)
@@ -220,6 +316,10 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
 
   Evaluation ev;
   ev.subjects = n;
+  ev.linear_limit_fitted_on = opt.linear_training
+                                  ? std::to_string(opt.linear_training->size()) + " training subjects"
+                                  : "10-fold cross-validation over the evaluated subjects (subject i left out in fold i mod 10)";
+  if (limits.empty()) ev.linear_limit_fitted_on = "not fitted: the file has none of the held-out columns, or too few subjects of a sex (a fit needs the inputs + 2)";
   ev.noise = opt.noise;
   ev.seed = opt.seed;
   std::vector<std::string> methods = opt.regressors;
@@ -257,6 +357,12 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
     }
     for (const auto& [k, v] : out)
       if (ErrorStats st = stats_of(v); st.count > 0) me.held_out[k] = st;  // columns the file lacks are left out
+    std::map<std::string, std::vector<double>> linear;
+    for (const auto& p : per)
+      if (auto it = p.linear.find(method); it != p.linear.end() && !p.failed.count(method))
+        for (const auto& [k, e] : it->second) linear[k].push_back(e);
+    for (const auto& [k, v] : linear) me.linear_limit[k] = stats_of(v);
+    compare_with_linear(me);
     me.implausible_share = built ? static_cast<double>(implausible) / built : 0;
     if (method.rfind("baseline:", 0) == 0) ev.baselines[method.substr(9)] = me;
     else ev.regressors[method] = me;
@@ -291,6 +397,15 @@ std::string evaluation_json(const Evaluation& ev, int indent) {
     }
     j["implausible_share"] = me.implausible_share;
     j["failures"] = me.failures;
+    if (!me.linear_limit.empty()) {
+      j["linear_limit"] = ordered_json::object();
+      for (const auto& [k, s] : me.linear_limit) j["linear_limit"][k] = {{"mae_cm", s.mae * 100}, {"n", s.count}};
+      j["ratio_to_linear"] = me.ratio_to_linear;
+      if (!me.ratio_to_linear.empty()) {
+        j["ratio_to_linear_median"] = me.ratio_median;
+        j["ratio_to_linear_worst"] = {{"column", me.ratio_worst_column}, {"ratio", me.ratio_worst}};
+      }
+    }
     if (!me.calibration.empty()) {
       j["calibration"] = ordered_json::object();
       for (const auto& [k, c] : me.calibration) {
@@ -305,6 +420,8 @@ std::string evaluation_json(const Evaluation& ev, int indent) {
   j["subjects"] = ev.subjects;
   j["noise"] = to_string(ev.noise);
   j["seed"] = ev.seed;
+  j["linear_limit"] = {{"fitted_on", ev.linear_limit_fitted_on},
+                       {"method", "least squares from each method's own inputs (noise-free training values) to each held-out column"}};
   j["regressors"] = ordered_json::object();
   for (const auto& [name, me] : ev.regressors) j["regressors"][name] = method_json(me);
   j["baselines"] = ordered_json::object();

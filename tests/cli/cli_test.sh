@@ -104,6 +104,24 @@ expect 0 "eval JSON has inputs and only the held-out columns present" node -e '
                !("chestcircumference" in r5.held_out) && "uniform_scale" in e.baselines ? 0 : 1);' "$TMP/eval.json"
 expect 3 "eval with unknown noise" "$CALIPER" eval --subjects "$SRC/examples/people.csv" --noise loud
 expect 4 "eval on a missing file" "$CALIPER" eval --subjects /nonexistent.csv
+expect 4 "eval with a missing training file" "$CALIPER" eval --subjects "$SRC/examples/people.csv" --train /nonexistent.csv
+says "/nonexistent.csv" "the training file is named"
+ANSUR_F="$SRC/../shared/data/ansur2/ANSUR_II_FEMALE_dev.csv"
+if [ -f "$ANSUR_F" ]; then
+  # The linear limit (issue 14) fitted on one part of the women, tested on another.
+  head -201 "$ANSUR_F" >"$TMP/test200.csv"; { head -1 "$ANSUR_F"; tail -n +202 "$ANSUR_F"; } >"$TMP/train.csv"
+  expect 0 "eval with --train" "$CALIPER" eval --subjects "$TMP/test200.csv" --train "$TMP/train.csv" --regressor R2,auto --json "$TMP/lin.json"
+  says "linear limit: 1290 training subjects" "the training file is used and counted"
+  says "held out / linear limit: median" "ratios to the limit are printed"
+  expect 0 "the JSON has the ratios" node -e '
+    const j = JSON.parse(require("fs").readFileSync(process.argv[1]));
+    const a = j.regressors.auto, r2 = j.regressors.R2;
+    const ok = /1290 training/.test(j.linear_limit.fitted_on) && a.ratio_to_linear_median > 0.5 && a.ratio_to_linear_median < 2 &&
+      Object.keys(a.ratio_to_linear).length === 12 && a.linear_limit.chestcircumference.mae_cm < r2.linear_limit.chestcircumference.mae_cm * 1.01;
+    process.exit(ok ? 0 : 1);' "$TMP/lin.json"
+else
+  echo "skip: eval --train needs ../shared/data/ansur2 (not found)"
+fi
 expect 0 "batch" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch"
 expect 0 "batch wrote an avatar and a report per row" bash -c "ls '$TMP/batch' | grep -c . | grep -qx 6"
 

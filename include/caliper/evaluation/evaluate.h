@@ -50,6 +50,13 @@ struct MethodEvaluation {
   std::map<std::string, ErrorStats> held_out;  // ANSUR columns + inputs the method did not use
   double implausible_share = 0;
   int failures = 0;  // subjects the method could not build (reported, not hidden)
+  // The linear limit from this method's own inputs (linear_limit.h), on the same subjects and the
+  // same (noisy) inputs, per held-out column; the method's MAE as a ratio to it; and over the
+  // held-out columns the median ratio and the worst one.
+  std::map<std::string, ErrorStats> linear_limit;
+  std::map<std::string, double> ratio_to_linear;
+  double ratio_median = 0, ratio_worst = 0;
+  std::string ratio_worst_column;
   std::map<std::string, Calibration> calibration;  // "map" only: held-out columns and inputs (vs the noise-free value)
 };
 
@@ -62,6 +69,10 @@ struct EvaluationOptions {
   std::uint64_t seed = 1;
   int threads = 2;
   bool baselines = true;  // the mean body scaled to the stature, and R2
+  // Where the linear limit is fitted: on these people (e.g. `caliper eval --train FILE`), else by
+  // 10-fold cross-validation over the evaluated subjects (subject i predicted by a fit on those
+  // not in fold i mod 10). Each sex is fitted on its own; fits use noise-free training values.
+  const std::vector<AnsurSubject>* linear_training = nullptr;
   std::function<void(int done, int total)> progress;  // called from the calling thread
 };
 
@@ -71,7 +82,12 @@ struct Evaluation {
   std::uint64_t seed = 1;
   std::map<std::string, MethodEvaluation> regressors;
   std::map<std::string, MethodEvaluation> baselines;
+  std::string linear_limit_fitted_on;  // "10-fold cross-validation over the evaluated subjects" or "N training subjects"
 };
+
+// The inputs a method of the evaluation works from (canonical names): a preset's, all six
+// Virtual Caliper inputs for auto and map, stature for the uniformly scaled mean body.
+std::vector<std::string> method_inputs(const std::string& method);
 
 // `builder_for(sex)` returns the avatar builder for a subject's sex (kept across calls).
 Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
@@ -80,7 +96,9 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
 
 // The JSON of issue 5: {"subjects": n, "regressors": {"R5": {"inputs": {"stature": {"mae_cm",
 // "max_cm"}, …, "weight": {"mae_kg", "max_kg"}}, "held_out": {col: {"mae_cm", "bias_cm"}},
-// "implausible_share": …}}, "baselines": {…}}; "map" also has "calibration": {key: {"within_1sd",
+// "implausible_share": …, "linear_limit": {col: {"mae_cm", "n"}}, "ratio_to_linear": {col: r},
+// "ratio_to_linear_median", "ratio_to_linear_worst": {"column", "ratio"}}}, "baselines": {…},
+// "linear_limit": {"fitted_on"}}; "map" also has "calibration": {key: {"within_1sd",
 // "within_2sd", "mean_sd_cm" | "mean_sd_kg", "n"}}.
 std::string evaluation_json(const Evaluation& evaluation, int indent = 2);
 
