@@ -24,13 +24,15 @@
 //    or back to reach them; where horizontal sections are measured across tilted rings, those rings
 //    re-sample the same surface so the sections are unchanged.
 //  * Where a circumference is larger than its breadth and depth allow with a plausible profile
-//    (superellipse exponent ≤ 4 for the chest, 5 for the waist), breadth and circumference are
-//    kept and the depth grows. ANSUR
-//    chest circumference is large for its chest breadth × depth (C / ellipse perimeter 1.24 on
-//    average for men; above the bounding rectangle's perimeter for 435 of 4,082 men), so
-//    chest_depth is NOT a fidelity target: over all 4,552 dev subjects it grows by a median of
-//    4.4 cm (max 11.7 cm). The head and hip rings may be boxier (exponent up to 10 and 6) so
-//    every subject's head length and buttock depth are kept.
+//    (superellipse exponent ≤ 14 for the chest, 5 for the waist), breadth and circumference are
+//    kept and the depth grows. ANSUR chest circumference is large for its chest breadth × depth
+//    (C / ellipse perimeter 1.24 on average for men; above the bounding rectangle's perimeter for
+//    435 of 4,082 men): the chest section may be nearly as square as its bounding box (real
+//    chests, with the latissimus, are), which keeps the depth for all women and about half the
+//    men (mean depth error +0.75 cm for men, 0.00 for women; with exponent ≤ 4 men's chests grew
+//    by a median 4.4 cm; docs/mannequin.md). chest_depth is still NOT a fidelity target. The head
+//    and hip rings may reach exponent 10 and 6 so every subject's head length and buttock depth
+//    are kept.
 //  * Thigh circumference is imposed on a leg ring 3 cm (scaled by stature) below the crotch, or
 //    lower under a seat that drops below it: a horizontal section at ANSUR's level, the gluteal
 //    furrow, would cut the torso.
@@ -475,7 +477,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     if (female) { r.bust = 0.085 * d.cd; r.bust_t = 0.72; r.bust_w = 0.44; }
     else if (sex == Sex::Male) { r.bust = 0.025 * d.cd; r.bust_t = 0.65; r.bust_w = 0.5; }
     else { r.bust = 0.05 * d.cd; r.bust_t = 0.7; r.bust_w = 0.42; }
-    fit_torso_ring(r, d.cb, d.cd, female ? 0.56 : 0.5, d.cc, 1.7, 4.0);
+    fit_torso_ring(r, d.cb, d.cd, female ? 0.56 : 0.5, d.cc, 1.7, 14.0);  // see the header: chest depth
   }
   const double a_sh = std::min(d.biac / 2 - 0.034 * sc, std::max(K[kChest].a * 1.0, d.biac / 2 - 0.05 * sc));
   {
