@@ -11,7 +11,15 @@
 
 namespace caliper::cli {
 
+namespace {
+// Values that look like a typing mistake: their own exit code, so a script can tell them apart.
+struct SuspectValues : Error {
+  using Error::Error;
+};
+}  // namespace
+
 int exit_code_for(const Error& e) {
+  if (dynamic_cast<const SuspectValues*>(&e)) return kSuspectValues;
   switch (e.kind()) {
     case ErrorKind::InvalidArgument:
     case ErrorKind::OutOfRange: return kBadValue;
@@ -51,6 +59,9 @@ void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta) {
                  "who measured, for auto: exact (values reproduced as given), self or other (weighed by the paper's "
                  "Table 2 errors); default: the measurement set's measured_by, else exact")
       ->check(CLI::IsMember({"exact", "self", "other"}));
+  app.add_flag("--force", opts.force,
+               "build even when values look swapped or in the wrong unit (e.g. --height 60 --weight 165); without it "
+               "they are refused with what was probably meant (exit code 6)");
   app.add_option("--noise-sd", opts.noise_sd, "for auto: a measurement's noise SD as NAME=SD (cm or kg)")
       ->type_name("NAME=SD");
   add_measurement(app, opts, "stature", "--stature,--height");
@@ -138,6 +149,10 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
       throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be in (0, 50] " + edge_unit(*info), info->name);
     noise_sd[info->name] = info->unit == Unit::Kilogram ? v : v / 100.0;
   }
+  // Typing mistakes (swapped, wrong unit) are asked about before anything is built (issue 14).
+  if (!opts.force)
+    if (const auto suspects = suspect_input_mistakes(edge); !suspects.empty())
+      throw SuspectValues(ErrorKind::InvalidArgument, describe_suspects(suspects), suspects.front().field);
   // Values are checked before the model is loaded, so a bad value is reported as such.
   std::map<std::string, double> si = measurements_from_edge(edge);
   out.model = std::make_shared<const BodyModel>(load_model(opts.model, sex));

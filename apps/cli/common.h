@@ -19,6 +19,7 @@ enum ExitCode : int {
   kBadValue = 3,       // NaN, negative, out-of-range or otherwise invalid value
   kBadFile = 4,        // unreadable, unwritable, malformed or truncated file
   kUnsupported = 5,    // valid request the model cannot serve (e.g. measurement it lacks)
+  kSuspectValues = 6,  // values that look swapped or in the wrong unit (--force uses them as given)
 };
 int exit_code_for(const Error& e);
 
@@ -37,6 +38,7 @@ struct BodyOptions {
   // `measured_by`, else exact.
   std::string noise;
   std::vector<std::string> noise_sd;        // regressor "map": NAME=SD (cm or kg) overrides
+  bool force = false;                       // build even if values look swapped or in the wrong unit
 };
 void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta);
 

@@ -84,6 +84,7 @@ struct RequestError {
   std::string message;
   std::string field;
   std::string kind;
+  ordered_json details = nullptr;  // more for the client (e.g. suspect values), merged into "error"
 };
 
 [[noreturn]] void bad(const std::string& message, const std::string& field, int status = 400,
@@ -164,17 +165,34 @@ std::map<std::string, double> parse_measurements(const ordered_json& m) {
       throw Error(ErrorKind::InvalidArgument, info->name + " must be a number in " + edge_unit(*info), info->name);
     if (edge.count(info->name))
       bad(info->name + " was given twice (as '" + name + "' and another alias)", info->name);
-    const double v = value.get<double>();
-    edge_to_si(*info, v);  // throws naming the field and the accepted range
-    edge[info->name] = v;
+    edge[info->name] = value.get<double>();
   }
   return edge;
+}
+
+// Values that look like a typing mistake (swapped, wrong unit) are a 400 "suspect_values" with
+// what was probably meant, unless the client says "force": true; then every value must be in
+// its accepted range.
+void check_measurements(const std::map<std::string, double>& edge, bool force) {
+  if (!force) {
+    const std::vector<SuspectValue> suspects = suspect_input_mistakes(edge);
+    if (!suspects.empty()) {
+      ordered_json list = ordered_json::array();
+      for (const auto& s : suspects)
+        list.push_back({{"field", s.field}, {"given", s.given}, {"suggested", round_to(s.suggested, 0.1)}, {"reason", s.reason}});
+      ordered_json suggested = ordered_json::object();
+      for (const auto& [name, v] : apply_suggestions(edge, suspects)) suggested[name] = round_to(v, 0.1);
+      throw RequestError{400, describe_suspects(suspects), suspects.front().field, "suspect_values",
+                         {{"suspects", list}, {"suggested_measurements", suggested}}};
+    }
+  }
+  for (const auto& [name, v] : edge) edge_to_si(*find_measurement_info(name), v);  // names the field and the range
 }
 
 BodyRequest parse_body_request(const std::string& body, const std::string& default_model, bool allow_mesh_flag) {
   const ordered_json j = parse_json_body(body);
   // The message lists exactly what this endpoint takes ("mesh" only on /api/avatar).
-  std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "noise", "noise_sd"};
+  std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "noise", "noise_sd", "force"};
   if (allow_mesh_flag) known.insert(known.begin() + 4, "mesh");
   for (const auto& [key, value] : j.items())
     if (std::find(known.begin(), known.end(), key) == known.end()) {
@@ -189,6 +207,8 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   if (r.regressor.empty()) r.regressor = "auto";
   if (!j.contains("measurements")) bad("measurements is required, e.g. {\"stature\": 165, \"weight\": 60}", "measurements");
   r.edge = parse_measurements(j["measurements"]);
+  if (j.contains("force") && !j["force"].is_boolean()) bad("force must be true or false", "force");
+  check_measurements(r.edge, j.value("force", false));
   if (j.contains("mesh")) {
     if (!j["mesh"].is_boolean()) bad("mesh must be true or false", "mesh");
     r.include_mesh = j["mesh"].get<bool>();
@@ -433,14 +453,24 @@ const std::vector<std::string>& known_family(const std::map<std::string, std::ve
 
 }  // namespace
 
-ApiResponse error_response(int status, const std::string& message, const std::string& field, const std::string& kind) {
+namespace {
+// The error body, with `details` (an object) merged into it.
+ApiResponse error_with_details(int status, const std::string& message, const std::string& field, const std::string& kind,
+                               const ordered_json& details) {
   ordered_json e;
   e["message"] = message;
   e["field"] = field.empty() ? ordered_json(nullptr) : ordered_json(field);
   const MeasurementInfo* info = field.empty() ? nullptr : find_measurement_info(field);
   e["accepted_range"] = info ? range_json(*info) : ordered_json(nullptr);
   e["kind"] = kind;
+  if (details.is_object())
+    for (const auto& [k, v] : details.items()) e[k] = v;
   return json_response({{"error", e}}, status);
+}
+}  // namespace
+
+ApiResponse error_response(int status, const std::string& message, const std::string& field, const std::string& kind) {
+  return error_with_details(status, message, field, kind, nullptr);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -653,6 +683,7 @@ struct Api::Impl {
     set.model = string_field(j, "model", "");
     if (!j.contains("measurements")) bad("measurements is required", "measurements");
     set.edge = parse_measurements(j["measurements"]);
+    check_measurements(set.edge, true);  // a set is saved as typed; only the ranges apply
     ApiResponse out;
     if (format == "csv") {
       out.content_type = "text/csv; charset=utf-8";
@@ -719,7 +750,7 @@ ApiResponse Api::handle(const ApiRequest& request) const {
   try {
     return impl_->route(request);
   } catch (const RequestError& e) {
-    return error_response(e.status, e.message, e.field, e.kind);
+    return error_with_details(e.status, e.message, e.field, e.kind, e.details);
   } catch (const Error& e) {
     return error_response_for_library_error(e, "model_format", "model_io");
   } catch (const std::exception& e) {

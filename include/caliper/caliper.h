@@ -8,6 +8,7 @@
 #include "caliper/measure/catalogue.h"
 #include "caliper/measure/definitions.h"
 #include "caliper/measure/geometry.h"
+#include "caliper/measure/input_check.h"
 #include "caliper/measure/measure.h"
 #include "caliper/regress/regressor.h"
 #include "caliper/protocol/isak.h"

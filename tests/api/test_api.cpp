@@ -246,7 +246,9 @@ TEST_F(ApiTest, TopologyIsTheModelsFaces) {
 }
 
 TEST_F(ApiTest, BadValuesNameTheFieldAndTheAcceptedRange) {
-  json e = expect_error(call("POST", "/api/avatar", avatar_body(1700, 60).dump()), 400, "stature");
+  json forced = avatar_body(1700, 60);
+  forced["force"] = true;  // as typed: then the range decides
+  json e = expect_error(call("POST", "/api/avatar", forced.dump()), 400, "stature");
   EXPECT_EQ(e["accepted_range"], json({{"min", 50.0}, {"max", 250.0}, {"unit", "cm"}}));
   EXPECT_EQ(e["kind"], "out_of_range");
   e = expect_error(call("POST", "/api/avatar", avatar_body(170, -3).dump()), 400, "weight");
@@ -316,12 +318,12 @@ TEST_F(ApiTest, UnknownFieldMessagesListWhatTheEndpointAccepts) {
   json body = avatar_body(170, 60);
   body["colour"] = "blue";
   json e = expect_error(call("POST", "/api/avatar", body.dump()), 400, "colour");
-  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, mesh, noise, noise_sd"), std::string::npos) << e;
+  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, mesh, noise, noise_sd, force"), std::string::npos) << e;
   body = avatar_body(170, 60);
   body["mesh"] = false;
   EXPECT_EQ(call("POST", "/api/avatar", body.dump()).status, 200);
   e = expect_error(call("POST", "/api/export/obj", body.dump()), 400, "mesh");
-  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd)"), std::string::npos) << e;
+  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd, force)"), std::string::npos) << e;
 }
 
 // docs/api.md: an invalid noise is refused whatever the regressor; a valid one only matters to map.
@@ -500,5 +502,25 @@ TEST(StaticFiles, MimeTypes) {
   EXPECT_EQ(mime_type_for("x.bin"), "application/octet-stream");
 }
 
+// Values that look mistyped (issue 14) are questioned with what was probably meant, unless the
+// client says "force": true.
+TEST_F(ApiTest, SuspectValuesAreQuestionedUnlessForced) {
+  json e = expect_error(call("POST", "/api/avatar", avatar_body(60, 165).dump()), 400, "stature");
+  EXPECT_EQ(e["kind"], "suspect_values");
+  ASSERT_EQ(e["suspects"].size(), 2u);
+  EXPECT_EQ(e["suggested_measurements"]["stature"], 165.0);
+  EXPECT_EQ(e["suggested_measurements"]["weight"], 60.0);
+  EXPECT_NE(e["message"].get<std::string>().find("swapped"), std::string::npos);
+  e = expect_error(call("POST", "/api/avatar", avatar_body(1700, 60).dump()), 400, "stature");
+  EXPECT_EQ(e["kind"], "suspect_values");
+  EXPECT_EQ(e["suggested_measurements"]["stature"], 170.0);
+  json body = avatar_body(60, 165);
+  body["force"] = true;
+  EXPECT_EQ(call("POST", "/api/avatar", body.dump()).status, 200);
+  body["force"] = "yes";
+  expect_error(call("POST", "/api/avatar", body.dump()), 400, "force");
+  // The suggestion builds.
+  EXPECT_EQ(call("POST", "/api/avatar", avatar_body(165, 60).dump()).status, 200);
+}
 }  // namespace
 }  // namespace caliper::server

@@ -130,6 +130,31 @@ try {
   await settle(n + 1);
   check(await err.isHidden(), 'the error clears when the value is fixed');
 
+  // A value typed in the wrong unit (issue 14): asked about in place, "Use …" applies the
+  // suggestion, "Keep mine" builds with the value as typed.
+  await page.fill('#in-stature', '68');  // inches
+  await err.waitFor({ state: 'visible', timeout: 10000 });
+  check(/inches/.test(await err.innerText()) && await page.locator('#use-suggested').isVisible(), 'a height in inches is questioned in place', await err.innerText());
+  if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-mistake.png') });
+  n = await updates();
+  await page.click('#use-suggested');
+  await settle(n + 1);
+  check(parseFloat(await page.inputValue('#in-stature')) === 172.7 && await err.isHidden(), 'the suggestion is applied',
+    await page.inputValue('#in-stature'));
+  await page.fill('#in-weight', '180');  // pounds at 172.7 cm
+  await err.waitFor({ state: 'visible', timeout: 10000 });
+  check(/pounds/.test(await err.innerText()), 'a weight in pounds is questioned', await err.innerText());
+  n = await updates();
+  await page.click('#keep-mine');
+  await settle(n + 1);
+  check(await err.isHidden() && parseFloat(await cell('weight', 1)) === 180, 'keep mine builds with the value as typed', await cell('weight', 1));
+  n = await updates();
+  await page.fill('#in-weight', '72');
+  await settle(n + 1);
+  n = await updates();
+  await page.fill('#in-stature', '186');
+  await settle(n + 1);
+
   // Camera presets.
   await snapshot();
   await page.click('.view-presets button[data-view="side"]');

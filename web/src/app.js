@@ -14,6 +14,8 @@ class ApiError extends Error {
     this.status = status;
     this.field = error?.field ?? null;
     this.range = error?.accepted_range ?? null;
+    this.kind = error?.kind ?? null;
+    this.suspects = error?.suspects ?? [];  // kind "suspect_values": values that look mistyped
   }
 }
 
@@ -351,6 +353,8 @@ function requestBody() {
   for (const [name, used] of Object.entries(state.use)) if (used) measurements[name] = state.values[name];
   const body = { sex: state.sex, model: state.model, regressor: state.regressor, measurements };
   if (state.regressor === 'auto') body.noise = state.noise;
+  // "Keep mine": these exact values were confirmed after the server doubted them.
+  if (state.confirmed === JSON.stringify(measurements)) body.force = true;
   return body;
 }
 
@@ -443,7 +447,7 @@ function renderPlausibility(report) {
   v.className = `verdict ${p.verdict}`;
   // In words a person can read: how rare, among whom, and why (issue 14).
   const why = p.drivers?.length ? ` Mostly because ${p.drivers.slice(0, 2).join('; ')}.` : '';
-  $('explanation').textContent = `${capitalise(p.rarity ?? '')}${why}`;
+  $('explanation').textContent = `${capitalise(p.rarity ?? '')}.${why}`;
   $('explanation').title = `${p.population ? `Population: ${p.population}. ` : ''}Shape values: ${p.explanation}`;
   $('population').textContent = p.population ? `Population: ${p.population}.` : '';
   const host = $('beta-bars');
@@ -553,6 +557,7 @@ function applyHeat() {
 
 function showError(e) {
   const box = $('error');
+  if (e.kind === 'suspect_values') return askAboutSuspects(e);
   let text = e.message;
   if (e.range) text += ` — accepted ${e.range.min}–${e.range.max} ${e.range.unit}`;
   box.textContent = text;
@@ -560,6 +565,35 @@ function showError(e) {
   for (const [name, r] of rows) r.row.classList.toggle('invalid', name === e.field);
   const status = $('status');
   status.textContent = e.status === 0 ? e.message : 'not updated: fix the highlighted value';
+  status.classList.add('error');
+}
+// Values that look swapped or in the wrong unit (issue 14): ask in place, as the CLI does with
+// its "did you mean" and --force.
+function askAboutSuspects(e) {
+  const box = $('error');
+  box.textContent = '';
+  const text = document.createElement('p');
+  text.textContent = e.suspects.map((s) => s.reason).filter((r, i, all) => all.indexOf(r) === i).join('; ') + '.';
+  const use = document.createElement('button');
+  use.id = 'use-suggested';
+  use.textContent = `Use ${e.suspects.map((s) => `${friendly(s.field)} ${s.suggested}`).join(', ')}`;
+  use.addEventListener('click', () => {
+    for (const s of e.suspects) state.values[s.field] = s.suggested;
+    refreshRows();
+    changed();
+  });
+  const keep = document.createElement('button');
+  keep.id = 'keep-mine';
+  keep.textContent = 'Keep mine';
+  keep.addEventListener('click', () => {
+    state.confirmed = JSON.stringify(requestBody().measurements);
+    changed();
+  });
+  box.append(text, use, keep);
+  box.hidden = false;
+  for (const [name, r] of rows) r.row.classList.toggle('invalid', e.suspects.some((s) => s.field === name));
+  const status = $('status');
+  status.textContent = 'not updated: check the highlighted values';
   status.classList.add('error');
 }
 function clearError() {
