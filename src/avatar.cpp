@@ -2,6 +2,7 @@
 #include "caliper/avatar.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -109,8 +110,14 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
     avatar.inputs.push_back(name);
     double sd = default_noise_sd(*model_, name, options.noise);
     if (auto o = request.noise_sd.find(name); o != request.noise_sd.end()) sd = o->second;
-    // A real → virtual map scales the noise with the value: σ_virtual = |slope|·σ_real.
-    if (request.apply_model_maps) sd *= std::abs(maps_.map(name).slope);
+    // A real → virtual map scales the noise with the value (σ_virtual = |slope|·σ_real) and adds
+    // its own residual: the T-posed avatar's arm length is not a function of the hanging arm's
+    // alone (paper §3.3), so it is not pinned tighter than the map knows it (else it drags
+    // biacromial breadth, docs/evaluation.md).
+    if (request.apply_model_maps) {
+      const LinearMap& m = maps_.map(name);
+      sd = std::hypot(std::abs(m.slope) * sd, m.rmse);
+    }
     options.noise_sd[name] = sd;
   }
   for (const auto& [name, sd] : request.noise_sd)
