@@ -79,6 +79,10 @@ for (const sex of sexes) {
     `${f(a.implausible_share * 100, 1)} % | ${f(s.implausible_share * 100, 1)} % | ${f(mean(s.held_out) / mean(a.held_out))} |`);
 }
 p();
+p('The built-in models keep K = 25 shape directions, chosen by held-out validation (`caliper model choose-k`;');
+p('the curve and the rule are in docs/mannequin.md, "How many shape directions"). The paper\'s R2–R6 still');
+p('span their 2^10 corners over the first ten.');
+p();
 p('Every input is reproduced as given except arm length: a person\'s arm length is measured hanging and');
 p('the avatar\'s in a T-pose, and the model\'s real → virtual map between them (paper §3.3) has a residual');
 p('of about 1.15 cm, so `auto` holds the arm to that precision rather than to 0.1 mm (docs/cli.md); pinned');
