@@ -273,9 +273,14 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
       const auto crossings = self_intersections(v, mq::topology().faces, 1);
       EXPECT_TRUE(crossings.empty()) << "subject " << s.id << ": faces " << crossings[0].first << " and "
                                      << crossings[0].second << " cross";
+      // A chest whose circumference no plausible section of its breadth and depth reaches grows
+      // in both by one factor (generator.cpp header): there breadth is traded, not missed.
+      const double depth_factor = m.at("chest_depth") / dims.at("chestdepth");
+      const bool chest_grew = depth_factor > 1.001;
       for (const auto& t : targets) {
         const double want = dims.at(t.ansur_column), got = m.at(t.measurement);
-        const bool ok = t.circumference ? std::abs(got - want) <= 0.01 * want : std::abs(got - want) <= 0.003;
+        bool ok = t.circumference ? std::abs(got - want) <= 0.01 * want : std::abs(got - want) <= 0.003;
+        if (!ok && t.measurement == "chest_breadth" && chest_grew) ok = std::abs(got / want - depth_factor) < 0.01;
         if (!ok) ++misses[t.measurement];
       }
     }
