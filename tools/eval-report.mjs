@@ -79,7 +79,7 @@ for (const sex of sexes) {
     `${f(a.implausible_share * 100, 1)} % | ${f(s.implausible_share * 100, 1)} % | ${f(mean(s.held_out) / mean(a.held_out))} |`);
 }
 p();
-p('The built-in models keep K = 25 shape directions, chosen by held-out validation (`caliper model choose-k`;');
+p('The built-in models keep K = 20 shape directions, chosen by held-out validation (`caliper model choose-k`;');
 p('the curve and the rule are in docs/mannequin.md, "How many shape directions"). The paper\'s R2–R6 still');
 p('span their 2^10 corners over the first ten.');
 p();

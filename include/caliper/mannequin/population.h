@@ -16,9 +16,9 @@ namespace caliper::mannequin {
 constexpr int kMaxComponents = 64;
 
 struct PopulationOptions {
-  // K shape directions kept (1..kMaxComponents). 25: the smallest K whose held-out error is
+  // K shape directions kept (1..kMaxComponents). 20: the smallest K whose held-out error is
   // within 1 % of the best, for women and men (`caliper model choose-k`, docs/mannequin.md).
-  int components = 25;
+  int components = 20;
   int threads = 2;              // bodies are generated in parallel; results do not depend on it
   std::uint64_t seed = 20121;   // for the randomized SVD; fixed so builds are bit-for-bit equal
   std::function<void(int done, int total)> progress;  // optional, called from the main thread

@@ -55,7 +55,7 @@ class Regressor {
 // rarer of the two (doubled, for testing twice), is its tail probability.
 //   overall: plausible, unusual when that share is below 1 %, implausible below 0.1 %;
 //   per value (the sliders' colours): |β_k| ≤ 2 plausible, 2 < |β_k| ≤ 3 unusual, > 3 implausible.
-// The overall verdict accounts for K: with 30 directions one person in 14 has some |β_k| > 3,
+// The overall verdict accounts for K: with 20 directions one person in 19 has some |β_k| > 3,
 // so a single value beyond 3 colours its slider without making the body implausible.
 enum class Verdict { Plausible, Unusual, Implausible };
 const char* to_string(Verdict verdict);
