@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "caliper/body/crease.h"
 #include "caliper/evaluation/shape_count.h"
 #include "caliper/makehuman/builder.h"
 #include "caliper/mannequin/population.h"
@@ -139,6 +140,65 @@ void register_choose_k(CLI::App& model) {
   });
 }
 
+// `caliper model creases`: how sharply the surface folds, per body region (crease.h): over the
+// built-in body's generated ANSUR population (--ansur), or on one model's mean body.
+void print_crease_row(const std::string& region, double max_deg, const std::string& whose, double typical_deg, double p99_deg) {
+  std::cout << "| " << region << " | " << std::fixed << std::setprecision(1) << max_deg << " | " << whose << " | "
+            << typical_deg << " | " << p99_deg << " |\n";
+}
+
+void register_creases(CLI::App& model) {
+  auto name = std::make_shared<std::string>("mannequin");
+  auto sex = std::make_shared<std::string>("female");
+  auto ansur = std::make_shared<std::string>();
+  auto every = std::make_shared<int>(1);
+  auto json = std::make_shared<std::string>();
+  CLI::App* cmd = model.add_subcommand(
+      "creases", "Creases: the largest dihedral angle between neighbouring faces per body region (torso, arms, legs "
+                 "should be smooth; hands, feet and head carry intended features), on a model's mean body or, with "
+                 "--ansur, on the built-in body generated for every ANSUR II subject of --sex");
+  cmd->add_option("model", *name, "model name or .npz path (without --ansur)")->capture_default_str();
+  cmd->add_option("--sex", *sex, "female, male or neutral")->capture_default_str();
+  cmd->add_option("--ansur", *ansur, "folder with ANSUR_II_{FEMALE,MALE}*.csv, or one CSV file: survey the built-in body's population");
+  cmd->add_option("--every", *every, "with --ansur: every N-th subject only (1–1000)")->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_option("--json", *json, "also write the table as JSON to this file");
+  cmd->callback([=] {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    double smooth_max = 0;
+    std::cout << "| region | largest angle (°) | where | typical body's largest (°) | 99th percentile (°) |\n|---|---|---|---|---|\n";
+    if (!ansur->empty()) {
+      std::vector<AnsurSubject> all = read_ansur_folder(*ansur), picked;
+      for (size_t i = 0; i < all.size(); i += static_cast<size_t>(*every)) picked.push_back(all[i]);
+      const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      const auto pop = mannequin::generate_population(picked, parse_sex(*sex), threads, progress_bar("generating bodies"));
+      for (const auto& r : mannequin::survey_creases(pop, threads)) {
+        print_crease_row(to_string(r.region), r.max_degrees, "subject " + r.worst_subject, r.median_body_max_degrees, r.max_p99_degrees);
+        if (!is_feature_region(r.region)) smooth_max = std::max(smooth_max, r.max_degrees);
+        out.push_back({{"region", to_string(r.region)}, {"max_degrees", r.max_degrees}, {"worst_subject", r.worst_subject},
+                       {"worst_edge", {r.worst_edge.a, r.worst_edge.b}}, {"median_body_max_degrees", r.median_body_max_degrees},
+                       {"max_p99_degrees", r.max_p99_degrees}});
+      }
+      std::cout << pop.bodies.rows() << " bodies; ";
+    } else {
+      const BodyModel m = load_model(*name, parse_sex(*sex));
+      const auto report = crease_report(m, m.rest_vertices(Eigen::VectorXd()));
+      for (const auto& r : report) {
+        const std::string where = "edge " + std::to_string(r.worst.a) + "-" + std::to_string(r.worst.b);
+        print_crease_row(to_string(r.region), r.max_degrees, where, r.max_degrees, r.p99_degrees);
+        out.push_back({{"region", to_string(r.region)}, {"max_degrees", r.max_degrees}, {"worst_edge", {r.worst.a, r.worst.b}},
+                       {"p99_degrees", r.p99_degrees}, {"edges", r.edges}});
+      }
+      smooth_max = smooth_region_max_crease(report);
+      std::cout << m.name() << " mean body; ";
+    }
+    std::cout << "torso, arms and legs: largest angle " << std::setprecision(1) << smooth_max << "°\n";
+    if (!json->empty()) {
+      write_file(*json, out.dump(2) + "\n");
+      std::cout << "wrote " << *json << "\n";
+    }
+  });
+}
+
 }  // namespace
 
 void register_model(CLI::App& app) {
@@ -256,6 +316,7 @@ void register_model(CLI::App& app) {
               << "wrote " << *out << "\n";
   });
   register_choose_k(*cmd);
+  register_creases(*cmd);
   CLI::App* list = cmd->add_subcommand("list", "List the models in the models folder");
   list->callback([] {
     const std::string dir = models_dir();

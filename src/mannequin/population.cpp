@@ -3,7 +3,9 @@
 #include "caliper/mannequin/population.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <atomic>
+#include <map>
 #include <cmath>
 #include <sstream>
 #include <thread>
@@ -265,6 +267,42 @@ BodyModel model_from_population(GeneratedPopulation& pop, Sex sex, const Populat
     report->weight_bias_paper_kg = bias_paper;
   }
   return BodyModel(std::move(d));
+}
+
+}  // namespace caliper::mannequin
+
+namespace caliper::mannequin {
+
+std::vector<RegionCreaseSurvey> survey_creases(const GeneratedPopulation& pop, int threads) {
+  const Topology& topo = topology();
+  const std::vector<std::string>& joints = smpl_joint_names();
+  const std::vector<BodyRegion> regions = vertex_regions(topo.skin_weights, joints);
+  const int n = static_cast<int>(pop.bodies.rows());
+  std::vector<std::vector<CreaseRegionSummary>> per_body(static_cast<size_t>(n));
+  detail::parallel_for(n, threads, [&](int i) {
+    const Eigen::RowVectorXd flat = pop.bodies.row(i);  // bodies is column-major: copy the row out first
+    const Vertices v = Eigen::Map<const Vertices>(flat.data(), topo.vertex_count, 3);
+    per_body[static_cast<size_t>(i)] = crease_report(v, topo.faces, regions);
+  });
+  std::map<BodyRegion, RegionCreaseSurvey> survey;
+  std::map<BodyRegion, std::vector<double>> body_maxima;
+  for (int i = 0; i < n; ++i)
+    for (const CreaseRegionSummary& s : per_body[static_cast<size_t>(i)]) {
+      RegionCreaseSurvey& r = survey[s.region];
+      r.region = s.region;
+      body_maxima[s.region].push_back(s.max_degrees);
+      r.max_p99_degrees = std::max(r.max_p99_degrees, s.p99_degrees);
+      if (s.max_degrees > r.max_degrees)
+        r.max_degrees = s.max_degrees, r.worst_edge = s.worst, r.worst_subject = pop.subjects[static_cast<size_t>(i)]->id;
+    }
+  std::vector<RegionCreaseSurvey> out;
+  for (auto& [region, r] : survey) {
+    auto& maxima = body_maxima[region];
+    std::nth_element(maxima.begin(), maxima.begin() + static_cast<std::ptrdiff_t>(maxima.size() / 2), maxima.end());
+    r.median_body_max_degrees = maxima[maxima.size() / 2];
+    out.push_back(r);
+  }
+  return out;
 }
 
 }  // namespace caliper::mannequin

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "caliper/body/body_model.h"
+#include "caliper/body/crease.h"
 #include "caliper/io/ansur.h"
 
 namespace caliper::mannequin {
@@ -76,6 +77,19 @@ struct GeneratedPopulation {
 };
 GeneratedPopulation generate_population(const std::vector<AnsurSubject>& subjects, Sex sex, int threads,
                                         const std::function<void(int done, int total)>& progress = {});
+
+// Creases over a generated population (crease.h): per body region, the largest dihedral angle
+// over every body, whose body it is, and the median over bodies of each body's own largest (the
+// typical body). Regions come from the built-in rig's skin weights. Runs on `threads` workers.
+struct RegionCreaseSurvey {
+  BodyRegion region = BodyRegion::Torso;
+  double max_degrees = 0;
+  std::string worst_subject;  // ANSUR subject id of the body with max_degrees
+  EdgeBend worst_edge;
+  double median_body_max_degrees = 0;
+  double max_p99_degrees = 0;  // the largest of the bodies' 99th percentiles
+};
+std::vector<RegionCreaseSurvey> survey_creases(const GeneratedPopulation& population, int threads);
 
 // The model of a generated population: PCA (K = options.components), volume → weight, real →
 // virtual maps. `population.bodies` is centred in place. Throws Error(Format) if it has fewer
