@@ -92,6 +92,12 @@ expect 0 "--force builds with the values as given" "$CALIPER" avatar --sex femal
 says "outside the population" "and the avatar is the closest body inside it"
 expect 0 "model info" "$CALIPER" model info mannequin --sex male
 says "vertices" "model info lists counts"
+expect 0 "model creases" "$CALIPER" model creases mannequin --sex male --json "$TMP/creases.json"
+says "| arms |" "model creases reports per region"
+says "torso, arms and legs: largest angle" "model creases sums up the smooth regions"
+node -e 'const r = JSON.parse(require("fs").readFileSync(process.argv[1])); if (r.length !== 6 || !(r.every(x => x.max_degrees > 0 && x.max_degrees <= 180))) process.exit(1)' "$TMP/creases.json" \
+  && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: model creases JSON has six regions with angles in (0, 180]"; }
+expect 2 "model creases --every 0" "$CALIPER" model creases --ansur "$TMP" --every 0
 expect 0 "model list" "$CALIPER" model list
 says "mannequin-female" "model list shows the built-in body"
 expect 0 "isak mean" "$CALIPER" isak 170 171
