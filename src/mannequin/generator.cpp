@@ -48,6 +48,7 @@
 #include <cmath>
 #include <functional>
 #include <mutex>
+#include <set>
 
 #include "caliper/errors.h"
 #include "curve.h"
@@ -71,6 +72,8 @@ constexpr int kHoleJ0 = 12, kHoleJ1 = 20;  // armpit hole columns on the left si
 constexpr int kHoleRows = 8;                // ring intervals spanned by the armpit hole
 constexpr int kThumbQ0 = 25, kThumbQ1 = 29; // thumb hole columns on the hand (q = 28 is +Z)
 constexpr int kThumbRows = 3;
+// Fairing of the shoulder (fair()): torso columns beside the armpit hole, arm rings after it.
+constexpr int kFairColumns = 6, kFairArmRings = 3, kFairIterations = 30;
 constexpr int kThumbN = 2 * (kThumbQ1 - kThumbQ0) + 2 * kThumbRows;
 
 // Torso key levels and ring intervals between consecutive keys.
@@ -1370,6 +1373,63 @@ Dimensions complete_dimensions(const Dimensions& partial, Sex sex) {
   return out;
 }
 
+// ---- Fairing the arm's junction with the torso --------------------------------------------
+// The arm tube leaves the torso through a hole in its side at nearly a right angle: a seam all
+// round the shoulder (the "doll joint"; `caliper model creases` measures ~120° on the mean body)
+// and a square shoulder top. Taubin's λ|μ smoothing (Taubin 1995, "A signal processing approach
+// to fair surface design") of the vertices around the hole turns the seam into a fillet without
+// shrinking the body. Only vertices that carry no landmark and lie on no imposed section move, so
+// every fidelity target is kept. The left side is smoothed and mirrored, so bodies stay exactly
+// symmetric.
+struct Fairing {
+  std::vector<int> left, right;              // free vertices; right[i] mirrors left[i]
+  std::vector<std::vector<int>> neighbours;  // one-ring of left[i]
+};
+
+Fairing make_fairing() {
+  Builder B;
+  B.want_topology = true;
+  build(plan_body(to_dims(typical_dimensions(Sex::Neutral)), Sex::Neutral), B);
+  add_landmarks(B);
+  std::set<int> pinned;
+  for (const auto& [name, id] : B.landmarks) pinned.insert(id);
+  Fairing f;
+  auto take = [&](int l, int r) {
+    if (l < 0 || pinned.count(l) || pinned.count(r)) return;
+    f.left.push_back(l);
+    f.right.push_back(r);
+  };
+  const int kax = torso_key_ring(kAxilla);
+  for (int k = kax + 1; k <= torso_key_ring(kShoulder2); ++k)
+    for (int j = kHoleJ0 - kFairColumns; j <= kHoleJ1 + kFairColumns; ++j)
+      take(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)]);
+  for (int r = 1; r <= kFairArmRings; ++r)
+    for (int q = 0; q < kArmN; ++q) take(B.arm[0][static_cast<size_t>(r)][static_cast<size_t>(q)], B.arm[1][static_cast<size_t>(r)][static_cast<size_t>(q)]);
+  std::vector<std::set<int>> ring(B.v.size());
+  for (const auto& t : B.faces)
+    for (int c = 0; c < 3; ++c) {
+      ring[static_cast<size_t>(t[static_cast<size_t>(c)])].insert(t[static_cast<size_t>((c + 1) % 3)]);
+      ring[static_cast<size_t>(t[static_cast<size_t>(c)])].insert(t[static_cast<size_t>((c + 2) % 3)]);
+    }
+  for (int id : f.left) f.neighbours.emplace_back(ring[static_cast<size_t>(id)].begin(), ring[static_cast<size_t>(id)].end());
+  return f;
+}
+
+void fair(std::vector<Vec3>& v) {
+  static const Fairing f = make_fairing();
+  std::vector<Vec3> step(f.left.size());
+  for (int it = 0; it < 2 * kFairIterations; ++it) {
+    const double factor = it % 2 == 0 ? 0.5 : -0.53;  // λ, μ (|μ| > λ: no shrinking)
+    for (size_t i = 0; i < f.left.size(); ++i) {
+      Vec3 mean = Vec3::Zero();
+      for (int n : f.neighbours[i]) mean += v[static_cast<size_t>(n)];
+      step[i] = factor * (mean / static_cast<double>(f.neighbours[i].size()) - v[static_cast<size_t>(f.left[i])]);
+    }
+    for (size_t i = 0; i < f.left.size(); ++i) v[static_cast<size_t>(f.left[i])] += step[i];
+  }
+  for (size_t i = 0; i < f.left.size(); ++i) v[static_cast<size_t>(f.right[i])] = mirror(v[static_cast<size_t>(f.left[i])]);
+}
+
 const Topology& topology() {
   static const Topology topo = make_topology();
   return topo;
@@ -1379,6 +1439,7 @@ Vertices generate(const Dimensions& dims, Sex sex) {
   validate(dims, sex);
   Builder B;
   build(plan_body(to_dims(dims), sex), B);
+  fair(B.v);
   Vertices out(static_cast<Eigen::Index>(B.v.size()), 3);
   for (size_t i = 0; i < B.v.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = B.v[i].transpose();
   return out;

@@ -5,6 +5,7 @@
 #include "caliper/body/crease.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "caliper/body/crease.h"
@@ -242,7 +243,8 @@ TEST(MannequinGenerator, CompleteDimensionsScalesByStature) {
   EXPECT_EQ(d.size(), typical.size());
 }
 
-// Fidelity over ANSUR development subjects: every target within 3 mm / 1 %. Every 15th subject,
+// Fidelity over ANSUR development subjects: every target within 3 mm / 1 %. Every 15th subject
+// (all with CALIPER_EVERY_SUBJECT=1),
 // plus every subject whose own levels force the construction off its usual plan (generator.cpp):
 // gluteal furrow or trochanterion at or below the crotch, axilla below the bust point, a navel
 // close above the seat, a head circumference beyond what its breadth and length allow at p = 4.
@@ -252,6 +254,8 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
     GTEST_SKIP() << "ANSUR II data not found in " << dir << " (needs ../shared next to the repo)";
   const auto targets = mq::fidelity_targets();
   const auto regions = vertex_regions(mq::topology().skin_weights, smpl_joint_names());
+  // CALIPER_EVERY_SUBJECT=1 checks all 4,552 (about 4 minutes), as docs/mannequin.md reports.
+  const bool every_subject = std::getenv("CALIPER_EVERY_SUBJECT") != nullptr;
   int bodies = 0, unusual_bodies = 0;
   std::map<std::string, int> misses;
   for (const char* file : {"ANSUR_II_FEMALE_dev.csv", "ANSUR_II_MALE_dev.csv"}) {
@@ -264,7 +268,7 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
                            x.at("axillaheight") < x.at("chestheight") + 0.012 ||
                            x.at("waistheightomphalion") < std::max(x.at("buttockheight"), x.at("trochanterionheight")) + 0.07 ||
                            x.at("headcircumference") > 1.75 * (x.at("headbreadth") + x.at("headlength"));
-      if (i % 15 != 0 && !unusual) continue;
+      if (i % 15 != 0 && !unusual && !every_subject) continue;
       if (unusual) ++unusual_bodies;
       mq::Dimensions dims;
       for (const auto& c : mq::input_columns()) dims[c] = s.values.at(c);
@@ -282,7 +286,7 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
       // docs/mannequin.md "Creases"): a change that folds the surface more fails here.
       for (const auto& r : crease_report(v, mq::topology().faces, regions)) {
         if (is_feature_region(r.region)) continue;
-        const double p99_bound = r.region == BodyRegion::Legs ? 52 : 64;
+        const double p99_bound = r.region == BodyRegion::Legs ? 52 : r.region == BodyRegion::Arms ? 45 : 64;
         EXPECT_LE(r.p99_degrees, p99_bound) << "subject " << s.id << ", " << to_string(r.region);
         EXPECT_LE(r.max_degrees, 150) << "subject " << s.id << ", " << to_string(r.region) << " edge " << r.worst.a << "-" << r.worst.b;
       }
