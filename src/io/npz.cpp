@@ -15,6 +15,7 @@
 #include <memory>
 
 #include "caliper/errors.h"
+#include "caliper/utf8.h"
 
 namespace caliper::npz {
 
@@ -344,26 +345,10 @@ void put_le(std::string& out, std::uint64_t bits, std::size_t n) {
 std::vector<std::uint32_t> utf8_code_points(const std::string& s) {
   std::vector<std::uint32_t> cps;
   std::size_t i = 0;
-  const auto fail = [] { throw Error(ErrorKind::InvalidArgument, "text is not valid UTF-8", "text"); };
+  std::uint32_t cp = 0;
   while (i < s.size()) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    std::uint32_t cp;
-    std::size_t extra;
-    if (c < 0x80) { cp = c; extra = 0; }
-    else if ((c & 0xE0) == 0xC0) { cp = c & 0x1F; extra = 1; }
-    else if ((c & 0xF0) == 0xE0) { cp = c & 0x0F; extra = 2; }
-    else if ((c & 0xF8) == 0xF0) { cp = c & 0x07; extra = 3; }
-    else fail();
-    if (i + extra >= s.size()) fail();  // a multi-byte sequence cut short
-    for (std::size_t k = 1; k <= extra; ++k) {
-      const auto cc = static_cast<unsigned char>(s[i + k]);
-      if ((cc & 0xC0) != 0x80) fail();
-      cp = (cp << 6) | (cc & 0x3F);
-    }
-    static constexpr std::uint32_t kMin[] = {0, 0x80, 0x800, 0x10000};
-    if (cp < kMin[extra] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) fail();
+    if (!next_code_point(s, i, cp)) throw Error(ErrorKind::InvalidArgument, "text is not valid UTF-8", "text");
     cps.push_back(cp);
-    i += extra + 1;
   }
   return cps;
 }
