@@ -532,11 +532,12 @@ void inflate_into(zip_file_t* f, std::string& bytes, std::uint64_t want, std::ui
 // One entry: its directory size against the limits, then its .npy header against the limits
 // and that size, and only then its data.
 Array read_entry(zip_t* z, const zip_stat_t& st, const std::string& name, const ReadLimits& limits, Budget& budget) {
-  const auto refuse_over = [&](const std::string& what, std::uint64_t most) {
-    bad(name, what + " more than " + std::to_string(most) + ", the most Caliper reads (docs/model-format.md \"Limits\")");
+  const auto refuse_over = [&](const std::string& what, std::uint64_t most, const char* unit) {
+    bad(name, what + " more than " + std::to_string(most) + unit + ", the most Caliper reads (docs/model-format.md \"Limits\")");
   };
-  if (st.size > limits.entry_bytes) refuse_over("its " + std::to_string(st.size) + " uncompressed bytes are", limits.entry_bytes);
-  if (st.size > budget.bytes) refuse_over("with it the archive's entries hold", limits.archive_bytes);
+  if (st.size > limits.entry_bytes)
+    refuse_over("its " + std::to_string(st.size) + " uncompressed bytes are", limits.entry_bytes, " bytes in one entry");
+  if (st.size > budget.bytes) refuse_over("with it the archive's entries hold", limits.archive_bytes, " uncompressed bytes");
   budget.bytes -= st.size;
   std::unique_ptr<zip_file_t, ZipFileCloser> f(zip_fopen_index(z, st.index, 0));
   if (!f) bad(name, std::string("cannot read zip entry: ") + zip_strerror(z));
@@ -546,11 +547,12 @@ Array read_entry(zip_t* z, const zip_stat_t& st, const std::string& name, const 
   const Preamble p = parse_preamble(bytes, name, limits.array_values);
   if (p.type.kind == Kind::Object) return parse_npy_within(bytes.substr(0, p.data_offset), name, limits.array_values);  // left unread
   if (p.count > budget.values)
-    refuse_over("with its " + std::to_string(p.count) + " values the archive's arrays hold", static_cast<std::uint64_t>(limits.archive_values));
+    refuse_over("with its " + std::to_string(p.count) + " values the archive's arrays hold",
+                static_cast<std::uint64_t>(limits.archive_values), " values");
   budget.values -= p.count;
   if (p.data_offset + p.data_bytes != st.size)
     bad(name, "its header declares shape " + shape_text(p.header.shape) + " of " + p.header.descr + " (" +
-                  std::to_string(p.data_offset + p.data_bytes) + " bytes) but the zip directory " +
+                  std::to_string(p.data_offset + p.data_bytes) + " bytes) but the zip directory says " +
                   std::to_string(st.size) + " bytes");
   bytes.reserve(static_cast<std::size_t>(st.size));
   inflate_into(f.get(), bytes, st.size + 1, st.size, name);
