@@ -73,7 +73,7 @@ double round_to(double v, double step) {
 ApiResponse json_response(const ordered_json& j, int status = 200) {
   ApiResponse r;
   r.status = status;
-  r.body = j.dump();
+  r.body = dump_json(j);
   return r;
 }
 
@@ -534,7 +534,7 @@ struct Api::Impl {
     ordered_json meta = ordered_json::object();
     for (const auto& [k, v] : m.data().metadata) meta[k] = v;
     j["metadata"] = meta;
-    return j.dump();
+    return dump_json(j);
   }
 
   struct Built {
@@ -690,7 +690,7 @@ struct Api::Impl {
       out.body = set_csv(set);
       out.download_name = "caliper-measurements.csv";
     } else {
-      out.body = set_json(set).dump(2) + "\n";
+      out.body = dump_json(set_json(set), 2) + "\n";
       out.download_name = "caliper-measurements.json";
     }
     return out;
@@ -703,6 +703,7 @@ struct Api::Impl {
     };
     auto is = [&](const char* method, const char* path) { return req.method == method && req.path == path; };
     if (is_capture_path(req.path)) return capture->handle(req);
+    require_utf8(req.body, "the request body");
     if (is("GET", "/api/health")) return json_response({{"status", "ok"}});
     if (is("GET", "/api/models")) return models();
     if (is("GET", "/api/measurements")) return measurements();

@@ -36,7 +36,7 @@ struct Refusal {
 ApiResponse json_response(const ordered_json& j, int status = 200) {
   ApiResponse r;
   r.status = status;
-  r.body = j.dump();
+  r.body = dump_json(j);
   return r;
 }
 
@@ -343,6 +343,7 @@ struct CaptureApi::Impl {
   ApiResponse route(const ApiRequest& req) const {
     const std::string& path = req.path;
     const std::string& m = req.method;
+    require_utf8(req.body, "the request body");
     if (path == "/api/capture/profiles") {
       if (m != "GET") refuse(405, m + " is not allowed on " + path + " (use GET)", "method", "method_not_allowed");
       return profiles();

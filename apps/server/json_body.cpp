@@ -1,8 +1,22 @@
 #include "json_body.h"
 
 #include "caliper/errors.h"
+#include "caliper/utf8.h"
 
 namespace caliper::server {
+
+void require_utf8(const std::string& text, const std::string& what) {
+  const std::size_t bad = invalid_utf8_offset(text);
+  if (bad != std::string_view::npos)
+    throw Error(ErrorKind::InvalidArgument,
+                what + " is not valid UTF-8 (byte " + std::to_string(bad) + " of " + std::to_string(text.size()) +
+                    "); send UTF-8 text",
+                "body");
+}
+
+std::string dump_json(const nlohmann::ordered_json& j, int indent) {
+  return j.dump(indent, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
 
 nlohmann::ordered_json parse_json_object(const std::string& text, const std::string& what) {
   nlohmann::ordered_json j;

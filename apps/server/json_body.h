@@ -11,4 +11,13 @@ namespace caliper::server {
 // double, or anything but an object — a 400 `invalid_argument` on every endpoint.
 nlohmann::ordered_json parse_json_object(const std::string& text, const std::string& what);
 
+// Throws caliper::Error(InvalidArgument, field "body") naming `what` and the offset of the first
+// bad byte unless `text` is valid UTF-8. Both APIs' routers pass every request body here before
+// an endpoint parses it or quotes it in a message (a 400 on every endpoint).
+void require_utf8(const std::string& text, const std::string& what);
+
+// The JSON text of a response. Never throws: invalid UTF-8 inside strings (text quoted from a
+// request into an error message) is written as U+FFFD, so an error response cannot itself fail.
+std::string dump_json(const nlohmann::ordered_json& j, int indent = -1);
+
 }  // namespace caliper::server

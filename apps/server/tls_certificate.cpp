@@ -8,19 +8,29 @@
 #include <openssl/pem.h>
 #include <openssl/x509.h>
 #include <openssl/x509v3.h>
-#include <sys/stat.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 
 #include "caliper/errors.h"
+#include "caliper/private_files.h"
 
 namespace caliper::server {
 
 namespace {
 
 [[noreturn]] void fail(const std::string& what) { throw Error(ErrorKind::Io, "cannot make a TLS certificate: " + what, "--https"); }
+
+// The private key as PEM text (PKCS#8, unencrypted), written to memory rather than to a file.
+std::string key_pem(EVP_PKEY* key) {
+  std::unique_ptr<BIO, decltype(&BIO_free)> bio(BIO_new(BIO_s_mem()), BIO_free);
+  if (!bio || PEM_write_bio_PrivateKey(bio.get(), key, nullptr, nullptr, 0, nullptr, nullptr) != 1)
+    fail("writing the private key failed");
+  char* data = nullptr;
+  const long size = BIO_get_mem_data(bio.get(), &data);
+  return std::string(data, static_cast<std::size_t>(size));
+}
 
 bool is_ip(const std::string& h) {
   unsigned char buf[16];
@@ -35,8 +45,11 @@ CertificateFiles ensure_self_signed_certificate(const std::string& dir, const st
   out.cert_file = (fs::path(dir) / "caliper-cert.pem").string();
   out.key_file = (fs::path(dir) / "caliper-key.pem").string();
   std::error_code ec;
-  if (fs::exists(out.cert_file, ec) && fs::exists(out.key_file, ec)) return out;
-  fs::create_directories(dir, ec);
+  if (fs::exists(out.cert_file, ec) && fs::exists(out.key_file, ec)) {
+    restrict_to_owner(out.key_file);  // a key left readable by an older Caliper or by hand
+    return out;
+  }
+  create_private_directory(dir);
 
   std::unique_ptr<EVP_PKEY, decltype(&EVP_PKEY_free)> key(EVP_EC_gen("P-256"), EVP_PKEY_free);
   if (!key) fail("key generation failed");
@@ -78,17 +91,13 @@ CertificateFiles ensure_self_signed_certificate(const std::string& dir, const st
   }
   if (X509_sign(cert.get(), key.get(), EVP_sha256()) == 0) fail("signing failed");
 
-  const mode_t old_mask = umask(077);  // the key is readable by its owner only
-  FILE* kf = std::fopen(out.key_file.c_str(), "wb");
-  umask(old_mask);
-  if (!kf) fail("cannot write " + out.key_file);
-  const bool key_ok = PEM_write_PrivateKey(kf, key.get(), nullptr, nullptr, 0, nullptr, nullptr) == 1;
-  std::fclose(kf);
+  // The key is readable by its owner only (0600 also when an old key file is rewritten).
+  write_private_file(out.key_file, key_pem(key.get()));
   FILE* cf = std::fopen(out.cert_file.c_str(), "wb");
   if (!cf) fail("cannot write " + out.cert_file);
   const bool cert_ok = PEM_write_X509(cf, cert.get()) == 1;
   std::fclose(cf);
-  if (!key_ok || !cert_ok) fail("writing the PEM files failed");
+  if (!cert_ok) fail("writing the PEM files failed");
   out.created = true;
   return out;
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "caliper/errors.h"
+#include "caliper/private_files.h"
 #include "utc_time.h"
 
 namespace caliper::capture {
@@ -161,9 +162,12 @@ SessionStore::SessionStore(const std::string& path) : impl_(std::make_unique<Imp
   s.path = path;
   namespace fs = std::filesystem;
   std::error_code ec;
-  const fs::path parent = fs::path(path).parent_path();
-  if (!parent.empty()) fs::create_directories(parent, ec);
+  create_private_directory(fs::path(path).parent_path().string());
   if (fs::is_directory(path, ec)) throw Error(ErrorKind::Io, "sessions database '" + path + "' is a folder", "database");
+  // Owner-only before SQLite opens it: the -wal and -shm files SQLite creates take the
+  // database's mode; ones left by an older Caliper are tightened too.
+  create_private_file(path);
+  for (const char* suffix : {"-wal", "-shm"}) restrict_to_owner(path + suffix);
   if (sqlite3_open_v2(path.c_str(), &s.db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr) != SQLITE_OK) {
     const std::string msg = s.db ? sqlite3_errmsg(s.db) : "out of memory";
     sqlite3_close(s.db);

@@ -117,20 +117,29 @@ class Arrays {
 
 // ---- sparse matrices as scipy's CSR/CSC parts: <prefix>_data, _indices, _indptr, _shape ----
 
-SparseRM read_sparse(const Arrays& f, const std::string& prefix, bool csc) {
+// A rows × cols matrix (the shape the dense arrays already fixed). The declared shape, the entry
+// count and every index are checked before anything is allocated, so a hostile shape (0 columns,
+// 2^31 rows) is an Error(Format) naming the array, not a crash or gigabytes of row offsets.
+SparseRM read_sparse(const Arrays& f, const std::string& prefix, bool csc, std::int64_t rows, std::int64_t cols) {
   const auto shape = f.indices(prefix + "_shape", {2}, 0, std::int64_t{1} << 31);
-  const std::int64_t rows = shape[0], cols = shape[1];
+  if (shape[0] != rows || shape[1] != cols)
+    f.fail(prefix + "_shape", "is (" + std::to_string(shape[0]) + ", " + std::to_string(shape[1]) + "), expected (" +
+                                  std::to_string(rows) + ", " + std::to_string(cols) + ")");
   const std::int64_t outer = csc ? cols : rows, inner = csc ? rows : cols;
   const Array& data = f.finite(prefix + "_data", {-1});
   const std::int64_t nnz = data.shape[0];
-  const auto index = f.indices(prefix + "_indices", {nnz}, 0, std::max<std::int64_t>(inner, 1));
+  if (nnz > rows * cols)
+    f.fail(prefix + "_data", "has " + std::to_string(nnz) + " entries, more than a " + std::to_string(rows) + " x " +
+                                 std::to_string(cols) + " matrix holds");
+  const auto index = f.indices(prefix + "_indices", {nnz}, 0, inner);
   const auto ptr = f.indices(prefix + "_indptr", {outer + 1}, 0, nnz + 1);
   if (ptr.front() != 0 || ptr.back() != nnz) f.fail(prefix + "_indptr", "must start at 0 and end at " + std::to_string(nnz));
+  for (std::size_t o = 0; o + 1 < ptr.size(); ++o)
+    if (ptr[o + 1] < ptr[o]) f.fail(prefix + "_indptr", "decreases at " + std::to_string(o));
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(static_cast<std::size_t>(nnz));
   for (std::int64_t o = 0; o < outer; ++o) {
     const auto begin = ptr[static_cast<std::size_t>(o)], end = ptr[static_cast<std::size_t>(o) + 1];
-    if (end < begin) f.fail(prefix + "_indptr", "decreases at " + std::to_string(o));
     for (std::int64_t k = begin; k < end; ++k) {
       const auto in = index[static_cast<std::size_t>(k)];
       const double v = data.numbers[static_cast<std::size_t>(k)];
@@ -250,8 +259,8 @@ BodyModel native_from_arrays(const Arrays& f) {
   const std::int64_t j = parents_shape.shape[0];
   for (auto p : f.indices("parents", {j}, -1, j)) d.parents.push_back(static_cast<int>(p));
   d.joint_names = f.strings("joint_names", j);
-  d.joint_regressor = read_sparse(f, "joint_regressor", false);
-  d.skin_weights = read_sparse(f, "skin_weights", false);
+  d.joint_regressor = read_sparse(f, "joint_regressor", false, j, n);
+  d.skin_weights = read_sparse(f, "skin_weights", false, n, j);
 
   const Array& lv_shape = f.numeric("landmark_vertices", {-1});
   const std::int64_t l = lv_shape.shape[0];
@@ -368,11 +377,7 @@ BodyModel smpl_from_arrays(const Arrays& f, const SmplLoadOptions& options) {
       if (fmt != "csr" && fmt != "csc") f.fail("J_regressor_format", "is '" + fmt + "', expected 'csr' or 'csc'");
       csc = fmt == "csc";
     }
-    d.joint_regressor = read_sparse(f, "J_regressor", csc);
-    if (d.joint_regressor.rows() != j || d.joint_regressor.cols() != n)
-      f.fail("J_regressor_shape", "is (" + std::to_string(d.joint_regressor.rows()) + ", " +
-                                      std::to_string(d.joint_regressor.cols()) + "), expected (" + std::to_string(j) +
-                                      ", " + std::to_string(n) + ")");
+    d.joint_regressor = read_sparse(f, "J_regressor", csc, j, n);
   } else {
     if (f.has("J_regressor") && f.get("J_regressor").is_object) {
       f.fail("J_regressor", "is a pickled object (probably a scipy sparse matrix); store it dense or as "

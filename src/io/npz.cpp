@@ -15,6 +15,7 @@
 #include <memory>
 
 #include "caliper/errors.h"
+#include "caliper/utf8.h"
 
 namespace caliper::npz {
 
@@ -28,10 +29,10 @@ namespace {
 
 constexpr char kMagic[] = "\x93NUMPY";
 constexpr std::size_t kMagicSize = 6;
-// No model array comes near this; anything larger is a corrupt header, not data to allocate for.
-constexpr std::int64_t kMaxElements = std::int64_t{1} << 34;
+// A shape dimension beyond this is a corrupt header (it also keeps the products below in range);
+// ReadLimits bounds the values actually allocated.
+constexpr std::int64_t kMaxDimension = std::int64_t{1} << 40;
 constexpr std::size_t kMaxHeaderSize = 1 << 20;
-constexpr std::uint64_t kMaxEntryBytes = std::uint64_t{8} << 30;  // one uncompressed .npy
 
 [[noreturn]] void bad(const std::string& name, const std::string& what) {
   throw Error(ErrorKind::Format, "array '" + name + "': " + what, name);
@@ -120,7 +121,7 @@ class HeaderParser {
       std::int64_t v = 0;
       while (std::isdigit(static_cast<unsigned char>(peek()))) {
         v = v * 10 + (s_[i_++] - '0');
-        if (v > kMaxElements) bad(name_, "shape dimension too large");
+        if (v > kMaxDimension) bad(name_, "shape dimension too large");
       }
       if (peek() == 'L') ++i_;  // Python 2 longs in headers written by old numpy
       shape.push_back(v);
@@ -344,26 +345,10 @@ void put_le(std::string& out, std::uint64_t bits, std::size_t n) {
 std::vector<std::uint32_t> utf8_code_points(const std::string& s) {
   std::vector<std::uint32_t> cps;
   std::size_t i = 0;
-  const auto fail = [] { throw Error(ErrorKind::InvalidArgument, "text is not valid UTF-8", "text"); };
+  std::uint32_t cp = 0;
   while (i < s.size()) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    std::uint32_t cp;
-    std::size_t extra;
-    if (c < 0x80) { cp = c; extra = 0; }
-    else if ((c & 0xE0) == 0xC0) { cp = c & 0x1F; extra = 1; }
-    else if ((c & 0xF0) == 0xE0) { cp = c & 0x0F; extra = 2; }
-    else if ((c & 0xF8) == 0xF0) { cp = c & 0x07; extra = 3; }
-    else fail();
-    if (i + extra >= s.size()) fail();  // a multi-byte sequence cut short
-    for (std::size_t k = 1; k <= extra; ++k) {
-      const auto cc = static_cast<unsigned char>(s[i + k]);
-      if ((cc & 0xC0) != 0x80) fail();
-      cp = (cp << 6) | (cc & 0x3F);
-    }
-    static constexpr std::uint32_t kMin[] = {0, 0x80, 0x800, 0x10000};
-    if (cp < kMin[extra] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) fail();
+    if (!next_code_point(s, i, cp)) throw Error(ErrorKind::InvalidArgument, "text is not valid UTF-8", "text");
     cps.push_back(cp);
-    i += extra + 1;
   }
   return cps;
 }
@@ -379,7 +364,11 @@ struct ZipFileCloser {
 
 }  // namespace
 
-Array parse_npy(const std::string& bytes, const std::string& name) {
+namespace {
+
+// Bytes up to the end of the header (magic, version, header length, header), from the first 12
+// bytes of a document (fewer when it is shorter).
+std::size_t preamble_size(const std::string& bytes, const std::string& name) {
   if (bytes.size() < kMagicSize + 4 || bytes.compare(0, kMagicSize, kMagic, kMagicSize) != 0)
     bad(name, "not a .npy document (bad magic or truncated)");
   const auto* u = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -395,34 +384,62 @@ Array parse_npy(const std::string& bytes, const std::string& name) {
   } else {
     bad(name, "unsupported .npy version " + std::to_string(major));
   }
-  if (header_len > kMaxHeaderSize || header_len > bytes.size() - pos) bad(name, "truncated .npy header");
-  // Version 3 headers are UTF-8; the keys and dtypes we accept are ASCII either way.
-  const Header h = HeaderParser(bytes.substr(pos, header_len), name).parse();
-  pos += header_len;
+  if (header_len > kMaxHeaderSize) bad(name, "truncated .npy header");
+  return pos + header_len;
+}
 
+// What a .npy header declares, checked against a bound on the number of values.
+struct Preamble {
+  Header header;
+  DType type;
+  std::int64_t count = 0;        // values
+  std::size_t data_offset = 0;   // where the data starts
+  std::uint64_t data_bytes = 0;  // count × item size (0 for a pickle, whose size is not declared)
+};
+
+Preamble parse_preamble(const std::string& bytes, const std::string& name, std::int64_t max_values) {
+  Preamble p;
+  p.data_offset = preamble_size(bytes, name);
+  if (p.data_offset > bytes.size()) bad(name, "truncated .npy header");
+  const std::size_t header_pos = bytes[6] == 1 ? 10 : 12;
+  // Version 3 headers are UTF-8; the keys and dtypes we accept are ASCII either way.
+  p.header = HeaderParser(bytes.substr(header_pos, p.data_offset - header_pos), name).parse();
+  p.type = parse_dtype(p.header.descr, name);
+  const auto too_many = [&] {
+    bad(name, "shape " + shape_text(p.header.shape) + " holds more than " + std::to_string(max_values) +
+                  " values, the most Caliper reads in one array (docs/model-format.md \"Limits\")");
+  };
+  p.count = 1;
+  for (std::int64_t d : p.header.shape) {
+    if (d != 0 && p.count > max_values / d) too_many();
+    p.count *= d;
+  }
+  if (p.count > max_values) too_many();
+  p.data_bytes = static_cast<std::uint64_t>(p.count) * p.type.item_size;
+  return p;
+}
+
+Array parse_npy_within(const std::string& bytes, const std::string& name, std::int64_t max_values) {
+  const Preamble pre = parse_preamble(bytes, name, max_values);
+  const Header& h = pre.header;
+  const DType& t = pre.type;
+  const std::int64_t count = pre.count;
   Array a;
   a.dtype = h.descr;
   a.shape = h.shape;
-  const DType t = parse_dtype(h.descr, name);
-  std::int64_t count = 1;
-  for (std::int64_t d : h.shape) {
-    if (d != 0 && count > kMaxElements / d) bad(name, "shape too large");
-    count *= d;
-  }
-  if (count > kMaxElements) bad(name, "shape too large");
   if (t.kind == Kind::Object) {
     a.is_object = true;  // a pickle: never executed, contents left unread
     return a;
   }
-  const std::uint64_t data_bytes = static_cast<std::uint64_t>(count) * t.item_size;
-  const std::uint64_t present = bytes.size() - pos;
+  const std::uint64_t data_bytes = pre.data_bytes;
+  const std::uint64_t present = bytes.size() - pre.data_offset;
   if (present < data_bytes)
     bad(name, "truncated: shape " + shape_text(h.shape) + " of " + h.descr + " needs " + std::to_string(data_bytes) +
                   " bytes, " + std::to_string(present) + " present");
   if (present > data_bytes)
     bad(name, std::to_string(present - data_bytes) + " unexpected bytes after the data");
 
-  const unsigned char* data = u + pos;
+  const unsigned char* data = reinterpret_cast<const unsigned char*>(bytes.data()) + pre.data_offset;
   std::vector<std::int64_t> offsets;
   if (h.fortran_order && h.shape.size() > 1) offsets = fortran_offsets(h.shape, count);
   const auto element = [&](std::int64_t lin) {
@@ -446,6 +463,12 @@ Array parse_npy(const std::string& bytes, const std::string& name) {
     for (std::int64_t k = 0; k < count; ++k) a.numbers[static_cast<std::size_t>(k)] = decode_number(element(k), t);
   }
   return a;
+}
+
+}  // namespace
+
+Array parse_npy(const std::string& bytes, const std::string& name) {
+  return parse_npy_within(bytes, name, ReadLimits{}.array_values);
 }
 
 std::string write_npy_f64(const std::vector<double>& values, const std::vector<std::int64_t>& shape) {
@@ -485,7 +508,62 @@ std::string write_npy_unicode_array(const std::vector<std::string>& utf8_texts, 
 
 std::string write_npy_unicode(const std::string& utf8_text) { return write_npy_unicode_array({utf8_text}, {}); }
 
-std::map<std::string, Array> read_npz(const std::string& path) {
+namespace {
+
+// What is left of ReadLimits' archive-wide bounds while entries are read.
+struct Budget {
+  std::uint64_t bytes;
+  std::int64_t values;
+};
+
+// Inflates `f` into `bytes` until it holds `want` bytes or the entry ends; never beyond
+// `declared` (the directory's size), whatever the compressed stream says.
+void inflate_into(zip_file_t* f, std::string& bytes, std::uint64_t want, std::uint64_t declared, const std::string& name) {
+  std::array<char, 1 << 16> chunk;
+  while (bytes.size() < want) {
+    const zip_int64_t got = zip_fread(f, chunk.data(), chunk.size());
+    if (got < 0) bad(name, std::string("corrupt or truncated zip entry: ") + zip_file_strerror(f));
+    if (got == 0) return;
+    bytes.append(chunk.data(), static_cast<std::size_t>(got));
+    if (bytes.size() > declared) bad(name, "zip entry is longer than its directory says");
+  }
+}
+
+// One entry: its directory size against the limits, then its .npy header against the limits
+// and that size, and only then its data.
+Array read_entry(zip_t* z, const zip_stat_t& st, const std::string& name, const ReadLimits& limits, Budget& budget) {
+  const auto refuse_over = [&](const std::string& what, std::uint64_t most, const char* unit) {
+    bad(name, what + " more than " + std::to_string(most) + unit + ", the most Caliper reads (docs/model-format.md \"Limits\")");
+  };
+  if (st.size > limits.entry_bytes)
+    refuse_over("its " + std::to_string(st.size) + " uncompressed bytes are", limits.entry_bytes, " bytes in one entry");
+  if (st.size > budget.bytes) refuse_over("with it the archive's entries hold", limits.archive_bytes, " uncompressed bytes");
+  budget.bytes -= st.size;
+  std::unique_ptr<zip_file_t, ZipFileCloser> f(zip_fopen_index(z, st.index, 0));
+  if (!f) bad(name, std::string("cannot read zip entry: ") + zip_strerror(z));
+  std::string bytes;
+  inflate_into(f.get(), bytes, 12, st.size, name);
+  inflate_into(f.get(), bytes, preamble_size(bytes, name), st.size, name);
+  const Preamble p = parse_preamble(bytes, name, limits.array_values);
+  if (p.type.kind == Kind::Object) return parse_npy_within(bytes.substr(0, p.data_offset), name, limits.array_values);  // left unread
+  if (p.count > budget.values)
+    refuse_over("with its " + std::to_string(p.count) + " values the archive's arrays hold",
+                static_cast<std::uint64_t>(limits.archive_values), " values");
+  budget.values -= p.count;
+  if (p.data_offset + p.data_bytes != st.size)
+    bad(name, "its header declares shape " + shape_text(p.header.shape) + " of " + p.header.descr + " (" +
+                  std::to_string(p.data_offset + p.data_bytes) + " bytes) but the zip directory says " +
+                  std::to_string(st.size) + " bytes");
+  bytes.reserve(static_cast<std::size_t>(st.size));
+  inflate_into(f.get(), bytes, st.size + 1, st.size, name);
+  if (bytes.size() != st.size)
+    bad(name, "truncated zip entry: " + std::to_string(bytes.size()) + " of " + std::to_string(st.size) + " bytes");
+  return parse_npy_within(bytes, name, limits.array_values);
+}
+
+}  // namespace
+
+std::map<std::string, Array> read_npz(const std::string& path, const ReadLimits& limits) {
   int err = 0;
   std::unique_ptr<zip_t, ZipCloser> z(zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &err));
   if (!z) {
@@ -499,32 +577,21 @@ std::map<std::string, Array> read_npz(const std::string& path) {
   }
   std::map<std::string, Array> arrays;
   const zip_int64_t entries = zip_get_num_entries(z.get(), 0);
+  if (entries > limits.entries)
+    throw Error(ErrorKind::Format, "'" + path + "' has " + std::to_string(entries) + " entries; Caliper reads at most " +
+                                       std::to_string(limits.entries) + " (docs/model-format.md \"Limits\")", path);
+  Budget budget{limits.archive_bytes, limits.archive_values};
   for (zip_int64_t e = 0; e < entries; ++e) {
     zip_stat_t st;
     zip_stat_init(&st);
     if (zip_stat_index(z.get(), static_cast<zip_uint64_t>(e), 0, &st) != 0 || !(st.valid & ZIP_STAT_NAME) ||
         !(st.valid & ZIP_STAT_SIZE))
       throw Error(ErrorKind::Format, "'" + path + "': unreadable zip entry " + std::to_string(e), path);
+    st.index = static_cast<zip_uint64_t>(e);
     std::string name = st.name;
     if (!name.empty() && name.back() == '/') continue;  // a directory entry
     if (name.size() > 4 && name.compare(name.size() - 4, 4, ".npy") == 0) name.resize(name.size() - 4);
-    if (st.size > kMaxEntryBytes) bad(name, "entry of " + std::to_string(st.size) + " bytes is implausibly large");
-    std::unique_ptr<zip_file_t, ZipFileCloser> f(zip_fopen_index(z.get(), static_cast<zip_uint64_t>(e), 0));
-    if (!f) bad(name, std::string("cannot read zip entry: ") + zip_strerror(z.get()));
-    // Grow the buffer with the data actually decompressed, not with the size the directory
-    // claims, so a lying header cannot make us allocate gigabytes.
-    std::string bytes;
-    std::array<char, 1 << 16> chunk;
-    while (true) {
-      const zip_int64_t got = zip_fread(f.get(), chunk.data(), chunk.size());
-      if (got < 0) bad(name, std::string("corrupt or truncated zip entry: ") + zip_file_strerror(f.get()));
-      if (got == 0) break;
-      bytes.append(chunk.data(), static_cast<std::size_t>(got));
-      if (bytes.size() > st.size) bad(name, "zip entry is longer than its directory says");
-    }
-    if (bytes.size() != st.size)
-      bad(name, "truncated zip entry: " + std::to_string(bytes.size()) + " of " + std::to_string(st.size) + " bytes");
-    arrays[name] = parse_npy(bytes, name);
+    arrays[name] = read_entry(z.get(), st, name, limits, budget);
   }
   return arrays;
 }

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
+#include "json_read.h"
 
 namespace caliper::makehuman {
 
@@ -251,71 +252,75 @@ int Rig::bone_index(const std::string& name) const {
   return -1;
 }
 
-Rig read_rig(const std::string& dir, const BaseMesh& mesh, const std::string& name) {
-  const fs::path rig_path = fs::path(dir) / "rigs" / "standard" / ("rig." + name + ".json");
-  const fs::path weights_path = fs::path(dir) / "rigs" / "standard" / ("weights." + name + ".json");
-  const nlohmann::json rig = read_json(rig_path);
-  const nlohmann::json weights = read_json(weights_path);
+namespace {
+
+using detail::JsonPlace;
+
+// A bone's head or tail (`end`): the vertices whose mean is the joint.
+std::vector<int> read_joint(const nlohmann::json& def, const JsonPlace& bone, const std::string& end, const BaseMesh& mesh) {
   const int n = static_cast<int>(mesh.vertices.rows());
-  auto joint = [&](const nlohmann::json& j, const std::string& bone) {
-    auto bad = [&](const std::string& what) {
-      throw Error(ErrorKind::Format, rig_path.string() + ": bone '" + bone + "': " + what, bone);
-    };
-    if (!j.is_object() || !j.contains("strategy")) bad("joint without a strategy");
-    const std::string strategy = j["strategy"].get<std::string>();
-    std::vector<int> out;
-    if (strategy == "CUBE") {
-      const std::string cube = j.value("cube_name", "");
-      auto it = mesh.groups.find(cube);
-      if (it == mesh.groups.end() || it->second.empty()) bad("unknown joint cube '" + cube + "'");
-      out = it->second;
-    } else if (strategy == "VERTEX") {
-      if (!j.contains("vertex_index") || !j["vertex_index"].is_number_integer()) bad("VERTEX joint without vertex_index");
-      out.push_back(j["vertex_index"].get<int>());
-    } else if (strategy == "MEAN") {
-      if (!j.contains("vertex_indices") || !j["vertex_indices"].is_array()) bad("MEAN joint without vertex_indices");
-      for (const auto& v : j["vertex_indices"]) out.push_back(v.get<int>());
-    } else {
-      bad("unknown joint strategy '" + strategy + "'");
-    }
-    for (int v : out)
-      if (v < 0 || v >= n) bad("joint vertex " + std::to_string(v) + " out of range");
-    if (out.empty()) bad("joint without vertices");
-    return out;
-  };
-  Rig r;
-  if (!rig.is_object() || rig.empty()) throw Error(ErrorKind::Format, rig_path.string() + ": no bones", "rig");
-  // Order bones so parents come first (the file is alphabetical).
+  const JsonPlace at = bone / end;
+  const nlohmann::json& j = detail::json_require(def, end, bone);
+  const std::string strategy = detail::json_string(detail::json_require(j, "strategy", at), at / "strategy");
+  std::vector<int> out;
+  if (strategy == "CUBE") {
+    const std::string cube = detail::json_string(detail::json_require(j, "cube_name", at), at / "cube_name");
+    auto it = mesh.groups.find(cube);
+    if (it == mesh.groups.end() || it->second.empty()) (at / "cube_name").fail("names an unknown joint cube '" + cube + "'");
+    out = it->second;
+  } else if (strategy == "VERTEX") {
+    out.push_back(static_cast<int>(detail::json_integer(detail::json_require(j, "vertex_index", at), at / "vertex_index", 0, n - 1)));
+  } else if (strategy == "MEAN") {
+    const nlohmann::json& list = detail::json_require(j, "vertex_indices", at);
+    if (!list.is_array() || list.empty()) (at / "vertex_indices").fail("must be a non-empty list of vertex indices");
+    for (const auto& v : list) out.push_back(static_cast<int>(detail::json_integer(v, at / "vertex_indices", 0, n - 1)));
+  } else {
+    (at / "strategy").fail("is '" + strategy + "', expected CUBE, VERTEX or MEAN");
+  }
+  return out;
+}
+
+// The bones of rig.<name>.json into r.bones, parents before children (the file is alphabetical).
+void read_bones(const fs::path& path, const BaseMesh& mesh, Rig& r) {
+  const nlohmann::json rig = read_json(path);
+  if (!rig.is_object() || rig.empty()) throw Error(ErrorKind::Format, path.string() + ": no bones", "rig");
   std::vector<std::string> pending;
   for (const auto& [bone, def] : rig.items()) pending.push_back(bone);
   while (!pending.empty()) {
     bool progressed = false;
     for (auto it = pending.begin(); it != pending.end();) {
-      const nlohmann::json& def = rig[*it];
-      const std::string parent = def.value("parent", "");
+      const JsonPlace bone{path.string(), *it};
+      const nlohmann::json& def = rig.at(*it);
+      const std::string parent = detail::json_string_or(def, "parent", "", bone);
       if (parent.empty() || r.bone_index(parent) >= 0) {
-        r.bones.push_back({*it, parent, joint(def["head"], *it), joint(def["tail"], *it)});
+        r.bones.push_back({*it, parent, read_joint(def, bone, "head", mesh), read_joint(def, bone, "tail", mesh)});
         it = pending.erase(it);
         progressed = true;
       } else {
         ++it;
       }
     }
-    if (!progressed) throw Error(ErrorKind::Format, rig_path.string() + ": bone '" + pending.front() + "' has a missing or cyclic parent", pending.front());
+    if (!progressed) throw Error(ErrorKind::Format, path.string() + ": bone '" + pending.front() + "' has a missing or cyclic parent", pending.front());
   }
-  if (!weights.contains("weights") || !weights["weights"].is_object())
-    throw Error(ErrorKind::Format, weights_path.string() + ": no 'weights' object", "weights");
+}
+
+// weights.<name>.json into r.weights, normalised to sum 1 per vertex; every body vertex needs some.
+void read_bone_weights(const fs::path& path, int n, Rig& r) {
+  const nlohmann::json weights = read_json(path);
+  const JsonPlace doc{path.string(), ""};
+  const nlohmann::json& bone_weights = detail::json_require(weights, "weights", doc);
+  if (!bone_weights.is_object()) (doc / "weights").fail("must be an object of bone: [[vertex, weight], ...]");
   r.weights.assign(static_cast<size_t>(n), {});
-  for (const auto& [bone, list] : weights["weights"].items()) {
+  for (const auto& [bone, list] : bone_weights.items()) {
+    const JsonPlace at = doc / "weights" / bone;
     const int b = r.bone_index(bone);
-    if (b < 0) throw Error(ErrorKind::Format, weights_path.string() + ": weights for unknown bone '" + bone + "'", bone);
+    if (b < 0) throw Error(ErrorKind::Format, path.string() + ": weights for unknown bone '" + bone + "'", bone);
+    if (!list.is_array()) at.fail("must be a list of [vertex, weight]");
     for (const auto& e : list) {
-      if (!e.is_array() || e.size() != 2 || !e[0].is_number_integer() || !e[1].is_number())
-        throw Error(ErrorKind::Format, weights_path.string() + ": bone '" + bone + "': entry is not [vertex, weight]", bone);
-      const int v = e[0].get<int>();
-      const double w = e[1].get<double>();
-      if (v < 0 || v >= n || !std::isfinite(w) || w < 0)
-        throw Error(ErrorKind::Format, weights_path.string() + ": bone '" + bone + "': bad entry for vertex " + std::to_string(v), bone);
+      if (!e.is_array() || e.size() != 2) at.fail("has an entry that is not [vertex, weight]");
+      const int v = static_cast<int>(detail::json_integer(e[0], at, 0, n - 1));
+      const double w = detail::json_number(e[1], at);
+      if (w < 0) at.fail("has a negative weight for vertex " + std::to_string(v));
       if (w > 0) r.weights[static_cast<size_t>(v)].push_back({b, static_cast<float>(w)});
     }
   }
@@ -325,11 +330,20 @@ Rig read_rig(const std::string& dir, const BaseMesh& mesh, const std::string& na
     for (const auto& [b, w] : ws) s += w;
     if (s <= 0) {
       if (v < kBodyVertexCount)
-        throw Error(ErrorKind::Format, weights_path.string() + ": body vertex " + std::to_string(v) + " has no weights", "weights");
+        throw Error(ErrorKind::Format, path.string() + ": body vertex " + std::to_string(v) + " has no weights", "weights");
       continue;
     }
     for (auto& bw : ws) bw.second = static_cast<float>(bw.second / s);
   }
+}
+
+}  // namespace
+
+Rig read_rig(const std::string& dir, const BaseMesh& mesh, const std::string& name) {
+  const fs::path folder = fs::path(dir) / "rigs" / "standard";
+  Rig r;
+  read_bones(folder / ("rig." + name + ".json"), mesh, r);
+  read_bone_weights(folder / ("weights." + name + ".json"), static_cast<int>(mesh.vertices.rows()), r);
   return r;
 }
 

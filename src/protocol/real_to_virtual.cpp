@@ -3,11 +3,13 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "caliper/errors.h"
 #include "caliper/measure/catalogue.h"
+#include "json_read.h"
 
 namespace caliper {
 
@@ -51,20 +53,20 @@ RealToVirtual RealToVirtual::from_json(const std::string& text) {
   } catch (const std::exception& e) {
     throw Error(ErrorKind::Format, std::string("real-to-virtual map: not valid JSON: ") + e.what(), "maps");
   }
-  if (!j.is_object() || j.value("format", "") != "caliper-real-to-virtual")
+  using namespace detail;
+  const JsonPlace doc{"real-to-virtual map", ""};
+  if (json_string_or(j, "format", "", doc) != "caliper-real-to-virtual")
     throw Error(ErrorKind::Format, "real-to-virtual map: expected \"format\": \"caliper-real-to-virtual\"", "format");
-  if (!j.contains("maps") || !j["maps"].is_object())
-    throw Error(ErrorKind::Format, "real-to-virtual map: \"maps\" must be an object", "maps");
+  const nlohmann::json& maps = json_require(j, "maps", doc);
+  if (!maps.is_object()) (doc / "maps").fail("must be an object of measurement: {slope, offset_cm, pairs, rmse_cm}");
   RealToVirtual r;
-  for (const auto& [name, m] : j["maps"].items()) {
-    if (!m.is_object() || !m.contains("slope") || !m["slope"].is_number() ||
-        (m.contains("offset_cm") && !m["offset_cm"].is_number()))
-      throw Error(ErrorKind::Format, "real-to-virtual map: '" + name + "' needs a numeric slope and offset_cm", name);
+  for (const auto& [name, m] : maps.items()) {
+    const JsonPlace at = doc / "maps" / name;
     LinearMap lm;
-    lm.slope = m["slope"].get<double>();
-    lm.offset = m.value("offset_cm", 0.0) / 100.0;
-    lm.pairs = m.value("pairs", 0);
-    lm.rmse = m.value("rmse_cm", 0.0) / 100.0;
+    lm.slope = json_number(json_require(m, "slope", at), at / "slope");
+    lm.offset = json_number_or(m, "offset_cm", 0.0, at) / 100.0;
+    lm.pairs = static_cast<int>(json_integer_or(m, "pairs", 0, at, 0, std::numeric_limits<int>::max()));
+    lm.rmse = json_number_or(m, "rmse_cm", 0.0, at) / 100.0;
     r.set(name, lm);
   }
   return r;

@@ -127,6 +127,20 @@ TEST_F(HttpTest, BadRequestsGetJsonErrors) {
   EXPECT_EQ(r->status, 405);
 }
 
+// Invalid UTF-8 over a real connection (docs/reliability.md): a 400 naming the body, as JSON,
+// where it once was a 500. Every endpoint is covered without the network in test_invalid_utf8.cpp.
+TEST_F(HttpTest, InvalidUtf8BodiesAreA400) {
+  auto c = client();
+  for (const std::string path : {"/api/avatar", "/api/measurement-set/import"}) {
+    auto r = c.Post(path, "{\"sex\": \"fem\xffle\", \"measurements\": {\"stature\": 170}}", "application/json");
+    ASSERT_TRUE(r) << path;
+    EXPECT_EQ(r->status, 400) << path << ": " << r->body;
+    const json e = json::parse(r->body)["error"];
+    EXPECT_EQ(e["field"], "body") << r->body;
+    EXPECT_NE(e["message"].get<std::string>().find("UTF-8"), std::string::npos) << r->body;
+  }
+}
+
 // A page on another site that rebinds its own DNS name to this machine sends that name in Host.
 TEST_F(HttpTest, RequestsForOtherHostNamesAreRefused) {
   const std::string refused = raw("GET /api/health HTTP/1.1\r\nHost: evil.example:" + std::to_string(port_) +

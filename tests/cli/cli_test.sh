@@ -58,6 +58,38 @@ expect 4 "malformed pairs CSV" "$CALIPER" map fit "$TMP/pairs.csv" -o "$TMP/map.
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$TMP/open.obj"
 expect 4 "open mesh has no volume" "$CALIPER" measure --mesh "$TMP/open.obj"
 
+# Hostile files (docs/reliability.md): exit 4 naming the field, never "internal error" (exit 1)
+# or a crash (exit 139).
+printf '{"format": "caliper-real-to-virtual", "maps": {"hip_breadth": {"slope": 0.9, "pairs": "20"}}}' > "$TMP/map-type.json"
+expect 4 "map with a string where an integer belongs" "$CALIPER" avatar --height 170 --weight 60 --map "$TMP/map-type.json" -o "$TMP/a.glb"
+says "maps.hip_breadth.pairs" "the map error names the field"
+printf '{"format": "caliper-real-to-virtual", "maps": {"hip_breadth": {"slope": 0.9, "pairs": 1e300}}}' > "$TMP/map-huge.json"
+expect 4 "map with 1e300 pairs" "$CALIPER" avatar --height 170 --weight 60 --map "$TMP/map-huge.json" -o "$TMP/a.glb"
+says "[0, 2147483647]" "the map error gives the accepted range"
+if command -v python3 >/dev/null; then
+  # The built-in model with its skin weights declared N x 0 and every index 0 (standard library only).
+  python3 - "$SRC/models/mannequin-female.npz" "$TMP/zero-columns.npz" <<'PY'
+import re, struct, sys, zipfile
+def npy_i8(values, shape):
+    dims = ", ".join(map(str, shape)) + ("," if len(shape) == 1 else "")
+    header = ("{'descr': '<i8', 'fortran_order': False, 'shape': (%s), }" % dims).encode()
+    header += b" " * ((64 - (10 + len(header) + 1) % 64) % 64) + b"\n"
+    return b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header + struct.pack("<%dq" % len(values), *values)
+with zipfile.ZipFile(sys.argv[1]) as src, zipfile.ZipFile(sys.argv[2], "w", zipfile.ZIP_DEFLATED) as out:
+    nnz = int(re.search(rb"'shape': \((\d+),\)", src.read("skin_weights_indices.npy")).group(1))
+    rows = struct.unpack("<2q", src.read("skin_weights_shape.npy")[-16:])[0]
+    for name in src.namelist():
+        data = src.read(name)
+        if name == "skin_weights_indices.npy": data = npy_i8([0] * nnz, [nnz])
+        if name == "skin_weights_shape.npy": data = npy_i8([rows, 0], [2])
+        out.writestr(name, data)
+PY
+  expect 4 "skin weights declared N x 0" "$CALIPER" model info "$TMP/zero-columns.npz"
+  says "skin_weights_shape" "the model error names the array"
+else
+  echo "note: python3 not found, the crafted-model check was skipped"
+fi
+
 # Unsupported: a regressor that needs a value not given.
 expect 5 "R5 without hip width" "$CALIPER" avatar --regressor R5 --height 170 --weight 60 --arm-span 172 --inseam 80 -o "$TMP/a.glb"
 says "hip_breadth" "missing input is named"

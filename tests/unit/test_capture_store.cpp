@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -215,6 +216,35 @@ TEST(CaptureStore, CorruptAndForeignFilesAreRefusedAndLeftUntouched) {
   test::write_file(damaged, bytes);
   EXPECT_THROW(SessionStore s(damaged), Error);
   EXPECT_EQ(test::read_file(damaged), bytes);
+}
+
+mode_t mode_of(const std::string& path) {
+  struct stat st {};
+  EXPECT_EQ(::stat(path.c_str(), &st), 0) << path;
+  return st.st_mode & 07777;
+}
+
+// Audit (docs/reliability.md): sessions.db and its -wal/-shm files were created 0644 (anyone on
+// the machine could read everyone's measurements). Now the folder the store creates is 0700 and
+// the files 0600, whatever the umask, and files an older Caliper left 0644 are tightened.
+TEST(CaptureStore, TheDatabaseItsWalFilesAndTheirFolderAreOwnerOnly) {
+  TempDir dir;
+  const mode_t old_mask = ::umask(022);
+  const std::string data = dir / "new-data-folder";
+  const std::string db = SessionStore::path_in(data);
+  {
+    CaptureService svc(options_for(db));
+    svc.create({});  // a write: SQLite creates the -wal and -shm files
+    EXPECT_EQ(mode_of(data), 0700u);
+    for (const std::string& f : {db, db + "-wal", db + "-shm"}) EXPECT_EQ(mode_of(f), 0600u) << f;
+  }
+  ASSERT_EQ(::chmod(db.c_str(), 0644), 0);
+  {
+    CaptureService svc(options_for(db));
+    svc.create({});
+    for (const std::string& f : {db, db + "-wal", db + "-shm"}) EXPECT_EQ(mode_of(f), 0600u) << f;
+  }
+  ::umask(old_mask);
 }
 
 TEST(CaptureStore, DefaultPathFollowsXdgDataHome) {

@@ -157,6 +157,57 @@ TEST(MakeHumanFiles, WrongFolderAndMissingFileAreClearErrors) {
   EXPECT_NE(message.find("base.obj"), std::string::npos) << message;
 }
 
+// Audit (docs/reliability.md): read_rig indexed missing keys of a const JSON object (undefined
+// behaviour), let nlohmann's type_error escape for a wrong type, and cast 1e300 to int. Each is
+// now Error(Format) naming the bone and key; a small rig on a four-vertex mesh shows it.
+TEST(MakeHumanFiles, RigReaderChecksPresenceTypesAndRanges) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.path / "rigs" / "standard");
+  BaseMesh mesh;
+  mesh.vertices = Vertices::Zero(4, 3);
+  mesh.groups["joint-a"] = {1, 2};
+  const std::string weights = R"({"weights": {"root": [[0, 1], [1, 1], [2, 1], [3, 1]]}})";
+  const auto write_rig = [&](const std::string& rig, const std::string& w) {
+    std::ofstream(dir / "rigs/standard/rig.test.json") << rig;
+    std::ofstream(dir / "rigs/standard/weights.test.json") << w;
+  };
+  const auto field_of = [&](const std::string& rig, const std::string& w = "") {
+    write_rig(rig, w.empty() ? weights : w);
+    try {
+      read_rig(dir.path.string(), mesh, "test");
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Format) << e.what();
+      return e.field();
+    } catch (const std::exception& e) {
+      return std::string("not a caliper::Error: ") + e.what();
+    }
+    return std::string("no error");
+  };
+  const std::string vertex0 = R"({"strategy": "VERTEX", "vertex_index": 0})";
+  const auto root = [&](const std::string& head, const std::string& tail) {
+    return R"({"root": {"head": )" + head + R"(, "tail": )" + tail + "}}";
+  };
+  write_rig(R"({"root": {"head": {"strategy": "CUBE", "cube_name": "joint-a"}, "tail": {"strategy": "MEAN", "vertex_indices": [1, 3.0]}}})",
+            weights);
+  const Rig ok = read_rig(dir.path.string(), mesh, "test");
+  EXPECT_EQ(ok.bones.at(0).tail_vertices, (std::vector<int>{1, 3}));
+
+  EXPECT_EQ(field_of(R"({"root": {"tail": )" + vertex0 + "}}"), "root.head");  // missing key
+  EXPECT_EQ(field_of(R"({"root": 5})"), "root");
+  EXPECT_EQ(field_of(root(R"({"vertex_index": 0})", vertex0)), "root.head.strategy");
+  EXPECT_EQ(field_of(root(R"({"strategy": 5})", vertex0)), "root.head.strategy");  // wrong type
+  EXPECT_EQ(field_of(root(R"({"strategy": "CUBE", "cube_name": 3})", vertex0)), "root.head.cube_name");
+  EXPECT_EQ(field_of(root(vertex0, R"({"strategy": "VERTEX", "vertex_index": 1e300})")), "root.tail.vertex_index");
+  EXPECT_EQ(field_of(root(vertex0, R"({"strategy": "VERTEX", "vertex_index": 4294967296})")), "root.tail.vertex_index");
+  EXPECT_EQ(field_of(root(vertex0, R"({"strategy": "MEAN", "vertex_indices": ["1"]})")), "root.tail.vertex_indices");
+  EXPECT_EQ(field_of(root(vertex0, R"({"strategy": "MEAN", "vertex_indices": [1e300]})")), "root.tail.vertex_indices");
+  EXPECT_EQ(field_of(R"({"root": {"parent": 7, "head": )" + vertex0 + R"(, "tail": )" + vertex0 + "}}"), "root.parent");
+  EXPECT_EQ(field_of(root(vertex0, vertex0), R"({"weights": {"root": [[1e300, 1]]}})"), "weights.root");
+  EXPECT_EQ(field_of(root(vertex0, vertex0), R"({"weights": {"root": [["0", 1]]}})"), "weights.root");
+  EXPECT_EQ(field_of(root(vertex0, vertex0), R"({"weights": {"root": 5}})"), "weights.root");
+  EXPECT_EQ(field_of(root(vertex0, vertex0), R"({"bones": {}})"), "weights");
+}
+
 // ---- the real assets ----
 
 TEST(MakeHumanAssets, BaseMeshIsClosedManifoldAndInMetres) {

@@ -267,6 +267,31 @@ TEST(NativeModel, BrokenFilesGiveErrorsNamingTheArray) {
   EXPECT_NE(std::string(e.what()).find("pickled"), std::string::npos) << e.what();
 }
 
+// Audit (docs/reliability.md): skin weights declared N × 0 with every index 0 once crashed the
+// loader (entries placed in a matrix without columns). The sparse shapes must be (J, N) and
+// (N, J), and the indices fit them, before anything is built.
+TEST(NativeModel, SparseShapesMustMatchTheModel) {
+  TempDir dir;
+  save_model(BodyModel(octahedron_data()), dir / "octa.npz");
+  const auto good = npz::read_npz(dir / "octa.npz");
+  const auto broken = [&](const std::string& prefix, std::vector<std::int64_t> shape) {
+    auto entries = reencode(good);
+    const auto nnz = static_cast<std::int64_t>(good.at(prefix + "_data").numbers.size());
+    entries[prefix + "_shape"] = npz::write_npy_i64(shape, {2});
+    entries[prefix + "_indices"] = npz::write_npy_i64(std::vector<std::int64_t>(static_cast<std::size_t>(nnz), 0), {nnz});
+    npz::write_npz(dir / "broken.npz", entries);
+    return load_error(dir / "broken.npz");
+  };
+  for (const auto& shape : {std::vector<std::int64_t>{6, 0}, {0, 2}, {6, 2147483647}}) {
+    const Error e = broken("skin_weights", shape);
+    EXPECT_EQ(e.kind(), ErrorKind::Format);
+    EXPECT_EQ(e.field(), "skin_weights_shape") << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected (6, 2)"), std::string::npos) << e.what();
+  }
+  const Error e = broken("joint_regressor", {2, 0});
+  EXPECT_EQ(e.field(), "joint_regressor_shape") << e.what();
+}
+
 TEST(NativeModel, TruncatedFilesNeverCrash) {
   TempDir dir;
   save_model(BodyModel(octahedron_data()), dir / "octa.npz");

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <zip.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -79,6 +80,73 @@ ErrorKind kind_of(const std::function<void()>& f) {
 
 
 
+
+// A zip source of `size` bytes, `head` followed by zeros, produced as libzip reads it: archives
+// that inflate to hundreds of megabytes without the test ever holding them.
+struct ZeroSource {
+  std::string head;
+  std::uint64_t size = 0;
+  std::uint64_t pos = 0;
+  zip_error_t error;
+};
+
+zip_int64_t zero_source(void* state, void* data, zip_uint64_t len, zip_source_cmd_t cmd) {
+  auto* s = static_cast<ZeroSource*>(state);
+  switch (cmd) {
+    case ZIP_SOURCE_OPEN: s->pos = 0; return 0;
+    case ZIP_SOURCE_READ: {
+      const std::uint64_t n = std::min<std::uint64_t>(len, s->size - s->pos);
+      auto* out = static_cast<char*>(data);
+      std::memset(out, 0, static_cast<std::size_t>(n));
+      for (std::uint64_t k = 0; k < n && s->pos + k < s->head.size(); ++k) out[k] = s->head[static_cast<std::size_t>(s->pos + k)];
+      s->pos += n;
+      return static_cast<zip_int64_t>(n);
+    }
+    case ZIP_SOURCE_CLOSE:
+    case ZIP_SOURCE_FREE: return 0;
+    case ZIP_SOURCE_STAT: {
+      auto* st = static_cast<zip_stat_t*>(data);
+      zip_stat_init(st);
+      st->size = s->size;
+      st->valid |= ZIP_STAT_SIZE;
+      return sizeof(zip_stat_t);
+    }
+    case ZIP_SOURCE_ERROR: return zip_error_to_data(&s->error, data, len);
+    case ZIP_SOURCE_SUPPORTS:
+      return zip_source_make_command_bitmap(ZIP_SOURCE_OPEN, ZIP_SOURCE_READ, ZIP_SOURCE_CLOSE, ZIP_SOURCE_STAT,
+                                            ZIP_SOURCE_ERROR, ZIP_SOURCE_FREE, -1);
+    default: return -1;
+  }
+}
+
+// A deflated .npz whose entries are `head` followed by zeros up to `size` bytes.
+void write_zero_npz(const std::string& path, std::vector<ZeroSource>& entries, const std::vector<std::string>& names) {
+  int err = 0;
+  zip_t* z = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
+  ASSERT_NE(z, nullptr);
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    zip_error_init(&entries[k].error);
+    zip_source_t* src = zip_source_function(z, zero_source, &entries[k]);
+    ASSERT_NE(src, nullptr);
+    const zip_int64_t idx = zip_file_add(z, (names[k] + ".npy").c_str(), src, 0);
+    ASSERT_GE(idx, 0);
+    ASSERT_EQ(zip_set_file_compression(z, static_cast<zip_uint64_t>(idx), ZIP_CM_DEFLATE, 1), 0);
+  }
+  ASSERT_EQ(zip_close(z), 0) << zip_strerror(z);
+}
+
+// The .npy header alone (no data) for a C-order array.
+std::string npy_head(const std::string& descr, const std::string& shape) { return npy(descr, shape, ""); }
+
+Error npz_error(const std::string& path, const npz::ReadLimits& limits = {}) {
+  try {
+    npz::read_npz(path, limits);
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "reading " << path << " did not throw";
+  return Error(ErrorKind::Unsupported, "none");
+}
 }  // namespace
 
 TEST(Npy, ParsesFloat64InCOrder) {
@@ -304,4 +372,70 @@ TEST(Npz, AMalformedEntryNamesTheArray) {
     EXPECT_EQ(e.kind(), ErrorKind::Format);
     EXPECT_EQ(e.field(), "shapedirs");
   }
+}
+
+// Audit (docs/reliability.md): a 255 KB archive whose one entry, a uint8 array of hundreds of
+// millions of zeros, once grew to 2.4 GB (its bytes, then a double per value). The header's
+// shape is now checked against ReadLimits before the data is inflated.
+TEST(NpzLimits, AZipBombIsRefusedFromItsHeader) {
+  TempDir dir;
+  const std::int64_t values = 40'000'000;  // 40 MB of zeros, ~40 KB deflated; 320 MB as doubles
+  ASSERT_GT(values, npz::ReadLimits{}.array_values);
+  const std::string head = npy_head("|u1", "(40000000,)");
+  std::vector<ZeroSource> entries(1);
+  entries[0].head = head;
+  entries[0].size = head.size() + static_cast<std::uint64_t>(values);
+  write_zero_npz(dir / "bomb.npz", entries, {"weights"});
+  EXPECT_LT(fs::file_size(dir / "bomb.npz"), 200'000u);
+  const Error e = npz_error(dir / "bomb.npz");
+  EXPECT_EQ(e.kind(), ErrorKind::Format);
+  EXPECT_EQ(e.field(), "weights");
+  EXPECT_NE(std::string(e.what()).find("the most Caliper reads"), std::string::npos) << e.what();
+}
+
+// The header must agree with the zip directory's size: a small declared shape followed by
+// megabytes of padding is refused before the padding is inflated.
+TEST(NpzLimits, HeaderAndDirectoryMustAgree) {
+  TempDir dir;
+  std::vector<ZeroSource> entries(1);
+  entries[0].head = npy_head("<f8", "(10,)");
+  entries[0].size = entries[0].head.size() + 80 + 5'000'000;
+  write_zero_npz(dir / "padded.npz", entries, {"v_template"});
+  const Error e = npz_error(dir / "padded.npz");
+  EXPECT_EQ(e.field(), "v_template");
+  EXPECT_NE(std::string(e.what()).find("zip directory"), std::string::npos) << e.what();
+}
+
+// Each bound of ReadLimits, with small limits so the files stay tiny.
+TEST(NpzLimits, EveryLimitIsEnforcedAndNamesTheArray) {
+  TempDir dir;
+  const std::vector<double> sixty(60, 1.5);
+  npz::write_npz(dir / "two.npz", {{"a", npz::write_npy_f64(sixty, {60})}, {"b", npz::write_npy_f64(sixty, {6, 10})}});
+  EXPECT_EQ(npz::read_npz(dir / "two.npz").size(), 2u);
+  npz::ReadLimits limits;
+  limits.array_values = 59;
+  Error e = npz_error(dir / "two.npz", limits);
+  EXPECT_EQ(e.field(), "a");
+  EXPECT_NE(std::string(e.what()).find("more than 59 values"), std::string::npos) << e.what();
+  limits = {};
+  limits.archive_values = 100;
+  e = npz_error(dir / "two.npz", limits);
+  EXPECT_EQ(e.field(), "b");
+  EXPECT_NE(std::string(e.what()).find("more than 100"), std::string::npos) << e.what();
+  limits = {};
+  limits.entry_bytes = 400;  // each entry is 128 header + 480 data bytes
+  e = npz_error(dir / "two.npz", limits);
+  EXPECT_EQ(e.field(), "a");
+  EXPECT_NE(std::string(e.what()).find("uncompressed bytes"), std::string::npos) << e.what();
+  limits = {};
+  limits.archive_bytes = 1000;
+  EXPECT_EQ(npz_error(dir / "two.npz", limits).field(), "b");
+  limits = {};
+  limits.entries = 1;
+  EXPECT_EQ(npz_error(dir / "two.npz", limits).kind(), ErrorKind::Format);
+  // At the limits exactly, the archive loads.
+  limits = {};
+  limits.array_values = 60;
+  limits.archive_values = 120;
+  EXPECT_EQ(npz::read_npz(dir / "two.npz", limits).size(), 2u);
 }

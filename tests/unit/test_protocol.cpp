@@ -71,6 +71,47 @@ TEST(RealToVirtual, FitRecoversAKnownLine) {
   std::filesystem::remove_all(dir);
 }
 
+// Audit (docs/reliability.md): a wrong type ("pairs": "20") escaped from_json as nlohmann's
+// type_error, which the CLI reports as an internal error, and "pairs": 1e300 was cast to int
+// (undefined behaviour). Each is now Error(Format) naming the field and, for integers, the range.
+TEST(RealToVirtual, MalformedFieldsAreFormatErrorsNamingTheField) {
+  const auto error_of = [](const std::string& text) {
+    try {
+      RealToVirtual::from_json(text);
+    } catch (const Error& e) {
+      return std::make_pair(e.kind(), std::string(e.field()) + " | " + e.what());
+    } catch (const std::exception& e) {
+      return std::make_pair(ErrorKind::Unsupported, std::string("not a caliper::Error: ") + e.what());
+    }
+    return std::make_pair(ErrorKind::Unsupported, std::string("no error"));
+  };
+  const auto map_with = [](const std::string& entry) {
+    return R"({"format": "caliper-real-to-virtual", "maps": {"hip_breadth": )" + entry + "}}";
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {map_with(R"({"slope": 0.9, "pairs": "20"})"), "maps.hip_breadth.pairs"},
+      {map_with(R"({"slope": 0.9, "pairs": 1e300})"), "maps.hip_breadth.pairs"},
+      {map_with(R"({"slope": 0.9, "pairs": -3})"), "maps.hip_breadth.pairs"},
+      {map_with(R"({"slope": 0.9, "pairs": 2.5})"), "maps.hip_breadth.pairs"},
+      {map_with(R"({"slope": 0.9, "pairs": 18446744073709551615})"), "maps.hip_breadth.pairs"},
+      {map_with(R"({"slope": 0.9, "rmse_cm": "0.4"})"), "maps.hip_breadth.rmse_cm"},
+      {map_with(R"({"slope": 0.9, "offset_cm": [1]})"), "maps.hip_breadth.offset_cm"},
+      {map_with(R"({"offset_cm": 1.2})"), "maps.hip_breadth.slope"},
+      {map_with("3"), "maps.hip_breadth"},
+      {R"({"format": 5, "maps": {}})", "format"},
+      {R"({"format": "caliper-real-to-virtual"})", "maps"},
+      {R"({"format": "caliper-real-to-virtual", "maps": [1]})", "maps"},
+  };
+  for (const auto& [text, field] : cases) {
+    const auto [kind, what] = error_of(text);
+    EXPECT_EQ(kind, ErrorKind::Format) << text << " -> " << what;
+    EXPECT_EQ(what.substr(0, what.find(" | ")), field) << text << " -> " << what;
+  }
+  EXPECT_NE(error_of(map_with(R"({"slope": 0.9, "pairs": 1e300})")).second.find("[0, 2147483647]"), std::string::npos);
+  const RealToVirtual ok = RealToVirtual::from_json(map_with(R"({"slope": 0.9, "pairs": 20.0, "rmse_cm": null})"));
+  EXPECT_EQ(ok.map("hip_breadth").pairs, 20);
+}
+
 TEST(RealToVirtual, BadFiles) {
   EXPECT_THROW(RealToVirtual::from_json("{not json"), Error);
   EXPECT_THROW(RealToVirtual::from_json(R"({"format":"other","maps":{}})"), Error);

@@ -400,6 +400,34 @@ TEST(SmplLoader, BrokenFilesGiveErrorsNamingTheArray) {
   EXPECT_EQ(e.field(), "f");
 }
 
+// Audit (docs/reliability.md): a sparse regressor whose declared shape has no rows, or 2^31 − 1
+// of them, once crashed `caliper model info` (entries placed outside a 0-row matrix) or grew to
+// 8 GB (Eigen's row offsets) before any check. Now the shape must be (J, N) and every index fits
+// it, checked before anything is built.
+TEST(SmplLoader, SparseShapesAreCheckedBeforeAnythingIsBuilt) {
+  TempDir dir;
+  Fixture csc;
+  csc.regressor = Fixture::Csc;
+  const auto nnz = static_cast<std::int64_t>(2 * csc.j);
+  const auto zeros = encode("<i4", {nnz}, std::vector<double>(static_cast<std::size_t>(nnz), 0.0));
+  for (const std::vector<double>& shape : {std::vector<double>{0, 8}, {2147483647.0, 8}, {24, 2147483647.0}}) {
+    const Error e = broken(dir, csc, [&](auto& m) {
+      m["J_regressor_shape"] = encode("<i8", {2}, shape);
+      m["J_regressor_indices"] = zeros;  // every entry in row 0: in range for any shape with rows
+    });
+    EXPECT_EQ(e.kind(), ErrorKind::Format) << shape[0];
+    EXPECT_EQ(e.field(), "J_regressor_shape") << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected (24, 8)"), std::string::npos) << e.what();
+  }
+  Fixture csr;
+  csr.regressor = Fixture::Csr;
+  const Error e = broken(dir, csr, [&](auto& m) {
+    m["J_regressor_shape"] = encode("<i8", {2}, {24, 0});
+    m["J_regressor_indices"] = zeros;
+  });
+  EXPECT_EQ(e.field(), "J_regressor_shape") << e.what();
+}
+
 TEST(SmplLoader, NotAZipAndTruncatedFiles) {
   TempDir dir;
   std::ofstream(dir / "text.npz") << "v_template = [[0, 0, 0]]\n";
