@@ -82,8 +82,8 @@ void register_avatar(CLI::App& app) {
       glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
       save_glb(*output, *built.model, built.avatar.rest_vertices, glb);
     } else
-      write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(),
-                                    "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));
+      write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(), built.model->data().uv_coordinates,
+                                    built.model->data().uv_faces, "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));
     if (!report->empty()) write_file(*report, avatar_report_json(*built.model, built.avatar));
     if (!*quiet) print_summary(built, std::cout);
     std::cout << "wrote " << *output << (report->empty() ? "" : " and " + *report) << "\n";

@@ -77,8 +77,11 @@ expect 0 "report is JSON with the documented fields" node -e '
     r.measurements.chest_circumference && !("requested_cm" in r.measurements.chest_circumference);
   process.exit(ok ? 0 : 1);' "$TMP/r.json"
 expect 0 "glb passes the Khronos validator" node "$SRC/tools/validate-gltf.mjs" "$TMP/a.glb"
+expect 0 "glb has texture coordinates" grep -qa TEXCOORD_0 "$TMP/a.glb"
 expect 0 "obj export" "$CALIPER" avatar --sex male --height 180 --weight 85 -o "$TMP/a.obj" -q
 expect 0 "measure the exported OBJ" "$CALIPER" measure --mesh "$TMP/a.obj" --sex male --json
+expect 0 "obj has texture coordinates" grep -q '^vt ' "$TMP/a.obj"
+expect 0 "obj faces name their texture coordinates" grep -qE '^f [0-9]+/[0-9]+/[0-9]+ ' "$TMP/a.obj"
 expect 0 "the paper's R2 by name" "$CALIPER" avatar --sex male --height 180 --weight 85 --regressor r2 -o "$TMP/b.glb" --report "$TMP/b.json" -q
 expect 0 "R2 was used" grep -q '"regressor": "R2"' "$TMP/b.json"
 expect 0 "BMI 40 by default" "$CALIPER" avatar --sex female --height 150 --weight 90 -o "$TMP/heavy.glb"
