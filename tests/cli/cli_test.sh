@@ -23,7 +23,7 @@ says() {
 }
 
 expect 0 "top-level help" "$CALIPER" --help
-for sub in avatar render measure isak "model info" "model list" "model build" "map fit"; do
+for sub in avatar render measure isak "model info" "model list" "model build" "model uv-atlas" "map fit"; do
   # shellcheck disable=SC2086
   expect 0 "help of $sub" "$CALIPER" $sub --help
 done
@@ -97,6 +97,11 @@ expect 0 "model info" "$CALIPER" model info mannequin --sex male
 says "vertices" "model info lists counts"
 expect 0 "model list" "$CALIPER" model list
 says "mannequin-female" "model list shows the built-in body"
+expect 0 "uv atlas" "$CALIPER" model uv-atlas mannequin --sex female --size 256 -o "$TMP/atlas.png"
+says "UVs for" "uv atlas says what it drew"
+expect 0 "uv atlas is a PNG" bash -c "head -c 8 '$TMP/atlas.png' | od -An -tx1 | grep -q '89 50 4e 47 0d 0a 1a 0a'"
+expect 3 "uv atlas size out of range" "$CALIPER" model uv-atlas mannequin --size 8 -o "$TMP/atlas.png"
+expect 2 "uv atlas needs an output" "$CALIPER" model uv-atlas mannequin
 expect 0 "isak mean" "$CALIPER" isak 170 171
 says "mean_of_two" "ISAK rule is named"
 says "170.500" "ISAK mean value"
