@@ -15,6 +15,7 @@
 
 #include "caliper/errors.h"
 #include "caliper/export/render.h"
+#include "caliper/export/uv_atlas.h"
 
 namespace caliper {
 namespace {
@@ -335,6 +336,36 @@ TEST(Render, BadInputThrowsNamingTheField) {
 
   EXPECT_EQ(kind_of([&] { render_views_png(cube.vertices, cube.faces, {}); }, &field), ErrorKind::InvalidArgument);
   EXPECT_EQ(field, "views");
+}
+
+TEST(UvAtlas, DrawsEachTriangleWhereItsUvsAreAndFlippedOnesRed) {
+  UvCoordinates uv(6, 2);
+  uv << 0.05, 0.05, 0.45, 0.05, 0.05, 0.45,  // counter-clockwise, lower left
+      0.55, 0.55, 0.55, 0.95, 0.95, 0.55;    // clockwise (flipped), upper right
+  Faces f(2, 3);
+  f << 0, 1, 2, 3, 4, 5;
+  UvAtlasOptions o;
+  o.size = 100;
+  const Image img = decode(render_uv_atlas_png(uv, f, o));
+  ASSERT_EQ(img.width, 100);
+  ASSERT_EQ(img.height, 100);
+  auto rgb = [&](int x, int y) { return std::array<int, 3>{img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]}; };
+  // Pixel (x, y) = (u·size, (1 − v)·size): v = 1 is the image's top row.
+  EXPECT_EQ(rgb(15, 85), (std::array<int, 3>{222, 222, 222}));  // inside the lower-left one
+  EXPECT_EQ(rgb(65, 35), (std::array<int, 3>{240, 120, 120}));  // inside the flipped one
+  EXPECT_EQ(rgb(90, 90), (std::array<int, 3>{255, 255, 255}));  // outside both
+  EXPECT_EQ(rgb(15, 35), (std::array<int, 3>{255, 255, 255}));
+  EXPECT_EQ(rgb(25, 95), (std::array<int, 3>{60, 60, 70}));     // on the edge v = 0.05
+  // Bad input.
+  std::string field;
+  o.size = 8;
+  EXPECT_EQ(kind_of([&] { render_uv_atlas_png(uv, f, o); }, &field), ErrorKind::InvalidArgument);
+  EXPECT_EQ(field, "size");
+  o.size = 64;
+  Faces bad = f;
+  bad(1, 2) = 6;
+  EXPECT_EQ(kind_of([&] { render_uv_atlas_png(uv, bad, o); }, &field), ErrorKind::InvalidArgument);
+  EXPECT_EQ(field, "uv_faces");
 }
 
 }  // namespace
