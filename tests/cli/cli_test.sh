@@ -102,6 +102,7 @@ says "UVs for" "uv atlas says what it drew"
 expect 0 "uv atlas is a PNG" bash -c "head -c 8 '$TMP/atlas.png' | od -An -tx1 | grep -q '89 50 4e 47 0d 0a 1a 0a'"
 expect 3 "uv atlas size out of range" "$CALIPER" model uv-atlas mannequin --size 8 -o "$TMP/atlas.png"
 expect 2 "uv atlas needs an output" "$CALIPER" model uv-atlas mannequin
+expect 0 "render with a checker texture through the UVs" "$CALIPER" render --sex female --height 165 --weight 60 --uv-checker --views front --image-width 64 --image-height 96 -o "$TMP/checker.png"
 expect 0 "isak mean" "$CALIPER" isak 170 171
 says "mean_of_two" "ISAK rule is named"
 says "170.500" "ISAK mean value"

@@ -189,6 +189,34 @@ TEST(Render, DefaultBodyColourIsWarmOnACoolGreyBackground) {
   EXPECT_GE(corner[2], corner[0]);  // background is neutral to slightly cool
 }
 
+TEST(Render, CheckerTextureFollowsTheUvs) {
+  // The box's UVs project it along z: the front face fills one checker square, light (warm) or
+  // dark (blue) depending on which square the UVs put it in.
+  const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
+  RenderOptions o;
+  o.width = 60;
+  o.height = 90;
+  o.uv_faces = cube.faces;
+  const Eigen::Vector3d lo = cube.vertices.colwise().minCoeff(), hi = cube.vertices.colwise().maxCoeff();
+  auto project = [&](double u0) {
+    UvCoordinates uv(cube.vertices.rows(), 2);
+    for (Eigen::Index i = 0; i < uv.rows(); ++i)
+      uv.row(i) << u0 + 0.4 * (cube.vertices(i, 0) - lo.x()) / (hi.x() - lo.x()),
+          0.4 * (cube.vertices(i, 1) - lo.y()) / (hi.y() - lo.y());
+    return uv;
+  };
+  o.checker_squares = 2;
+  o.uv_coordinates = project(0.05);  // square (0, 0): light
+  const Image light = decode(render_png(cube.vertices, cube.faces, o));
+  o.uv_coordinates = project(0.55);  // square (1, 0): dark
+  const Image dark = decode(render_png(cube.vertices, cube.faces, o));
+  EXPECT_GT(light.at(30, 45)[0], light.at(30, 45)[2]);
+  EXPECT_GT(dark.at(30, 45)[2], dark.at(30, 45)[0]);
+  EXPECT_GT(light.at(30, 45)[0], dark.at(30, 45)[0] + 60);
+  o.uv_faces = Faces(cube.faces.topRows(3));
+  EXPECT_THROW(render_png(cube.vertices, cube.faces, o), Error);
+}
+
 int red_pixels(const Image& img) {
   int n = 0;
   for (int y = 0; y < img.height; ++y)
