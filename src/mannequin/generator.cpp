@@ -1389,14 +1389,17 @@ const Topology& topology() {
 }
 
 // ---- UV layout ----------------------------------------------------------------------------
-// Every part of the body is a stack of rings, so each island is unwrapped the way a tailor
-// flattens a sleeve: cut along one column (the seam), u = arc length around each ring from the
-// seam (centred), v = distance along the stack (the mean distance between consecutive rings).
-// Each strip of quads between two rings then lies between two horizontal lines with its columns
-// in order, so no island folds over itself, and lengths around and along the body are kept
-// (areas roughly so; a closing pole is the point above its ring's centre, the sinusoidal
-// projection's equal-area trick). Soles are flat: their UVs are their footprint. Islands keep one
-// scale (metres), are packed in shelves and scaled into [0, 1]² with a margin.
+// Every part of the body is a stack of rings, so each part is unwrapped the way a tailor
+// flattens a sleeve: cut along one or more columns (seams), each piece between two seams an
+// island with u = arc length around each ring from its first seam (centred) and v = distance
+// along the stack (the mean distance between consecutive rings). Each strip of quads between two
+// rings then lies between two horizontal lines with its columns in order, so no island folds
+// over itself, and lengths around and along the body are kept (areas roughly so; a closing pole
+// is the point above its ring's centre, the sinusoidal projection's equal-area trick). Cutting
+// the torso and legs into front and back halves halves the shear where rings shrink fast (top
+// of the shoulders, top of the head, foot). Soles are flat: their UVs are their footprint.
+// Islands keep one scale (metres), are skyline-packed (quarter turns allowed) and scaled into
+// [0, 1]² with a margin.
 namespace {
 
 const Builder& ring_structure() {  // the rings and face order of topology()
@@ -1504,6 +1507,7 @@ std::vector<IslandUv> unwrap_stack(const RingStack& S, const Vertices& rest, con
         if (k > 0 && k < length(p)) part = p;
       }
     }
+    if (part < 0) throw Error(ErrorKind::Format, "uv_layout: a face lies on seams only", "faces");  // not in this topology
     const int a = first(part), len = length(part);
     std::array<int, 3> k{};
     bool far = false;
