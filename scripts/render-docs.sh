@@ -14,3 +14,6 @@ $c render --sex female --height 153 --weight 88 -o docs/images/mannequin-short-h
 # The rig at work: mid-stride, knees and elbows bent by the skinning weights.
 $c render --sex female --beta 0 -o docs/images/mannequin-posed.png --pose stride --views front,side,three-quarter \
   --image-width 420 --image-height 700
+# The UV layout: the atlas, and the mean female painted with a checker through it.
+$c model uv-atlas mannequin --sex female --size 1024 -o docs/images/uv-atlas-female.png
+$c render --sex female --beta 0 --uv-checker -o docs/images/uv-checker-female.png "${size[@]}"

@@ -82,8 +82,8 @@ void register_avatar(CLI::App& app) {
       glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
       save_glb(*output, *built.model, built.avatar.rest_vertices, glb);
     } else
-      write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(),
-                                    "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));
+      write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(), built.model->data().uv_coordinates,
+                                    built.model->data().uv_faces, "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));
     if (!report->empty()) write_file(*report, avatar_report_json(*built.model, built.avatar));
     if (!*quiet) print_summary(built, std::cout);
     std::cout << "wrote " << *output << (report->empty() ? "" : " and " + *report) << "\n";
@@ -99,6 +99,7 @@ void register_render(CLI::App& app) {
   auto mesh_file = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>("t");
   auto heat = std::make_shared<bool>(false);
+  auto checker = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand("render", "Render an avatar (or an OBJ mesh) to a PNG picture, several views side by side");
   add_body_options(*cmd, *opts, true);
   cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
@@ -111,6 +112,8 @@ void register_render(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--uncertainty", *heat,
                 "colour the body by the per-vertex SD of --regressor map (blue: certain, red: the body's largest SD)");
+  cmd->add_flag("--uv-checker", *checker,
+                "paint the body with a checker texture through the model's UV layout (or the OBJ's texture coordinates)");
   cmd->add_option("--image-width", *width, "width of each view in pixels (64–4096)")->capture_default_str();
   cmd->add_option("--image-height", *height, "height of each view in pixels (64–4096)")->capture_default_str();
   cmd->callback([=] {
@@ -136,8 +139,14 @@ void register_render(CLI::App& app) {
         throw Error(ErrorKind::InvalidArgument,
                     "--mesh draws the file as it is: --pose, --uncertainty, measurements and --beta do not apply to it",
                     "--mesh");
-      Mesh m = read_obj(*mesh_file);
-      write_file(*output, render_views_png(m.vertices, m.faces, vs, ro));
+      TexturedMesh m = read_obj_textured(*mesh_file);
+      if (*checker) {
+        if (m.uv_faces.rows() == 0)
+          throw Error(ErrorKind::Unsupported, "--uv-checker: '" + *mesh_file + "' has no texture coordinates", "--uv-checker");
+        ro.uv_coordinates = m.uv_coordinates;
+        ro.uv_faces = m.uv_faces;
+      }
+      write_file(*output, render_views_png(m.mesh.vertices, m.mesh.faces, vs, ro));
     } else {
       BuiltAvatar built = build_avatar(*opts);
       if (*heat) {
@@ -149,6 +158,12 @@ void register_render(CLI::App& app) {
         ro.scalar_max = static_cast<float>(sd.maxCoeff());
       }
       const BodyModel& model = *built.model;
+      if (*checker) {
+        if (!model.has_uvs())
+          throw Error(ErrorKind::Unsupported, "--uv-checker: model '" + model.name() + "' has no UV layout", "--uv-checker");
+        ro.uv_coordinates = model.data().uv_coordinates;
+        ro.uv_faces = model.data().uv_faces;
+      }
       const Vertices& rest = built.avatar.rest_vertices;
       const Vertices shown = *pose == "a"        ? pose_vertices(model, rest, a_pose(model))
                              : *pose == "stride" ? pose_vertices(model, rest, stride_pose(model))

@@ -174,7 +174,8 @@ void register_batch(CLI::App& app) {
       for (char c : s.id) id += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
       const std::string base = *out + "/" + (id.empty() ? std::to_string(done) : id);
       if (*format == "glb") save_glb(base + ".glb", builder->model(), a.rest_vertices);
-      else write_file(base + ".obj", write_obj(a.rest_vertices, builder->model().faces(), "Caliper avatar, subject " + s.id));
+      else write_file(base + ".obj", write_obj(a.rest_vertices, builder->model().faces(), builder->model().data().uv_coordinates,
+                                                  builder->model().data().uv_faces, "Caliper avatar, subject " + s.id));
       write_file(base + ".json", avatar_report_json(builder->model(), a));
       progress(++done, static_cast<int>(subjects.size()));
     }

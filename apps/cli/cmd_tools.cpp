@@ -7,6 +7,7 @@
 
 #include "caliper/body/crease.h"
 #include "caliper/evaluation/shape_count.h"
+#include "caliper/export/uv_atlas.h"
 #include "caliper/makehuman/builder.h"
 #include "caliper/mannequin/population.h"
 #include "common.h"
@@ -317,6 +318,24 @@ void register_model(CLI::App& app) {
   });
   register_choose_k(*cmd);
   register_creases(*cmd);
+  auto atlas_name = std::make_shared<std::string>("mannequin");
+  auto atlas_sex = std::make_shared<std::string>("female");
+  auto atlas_out = std::make_shared<std::string>();
+  auto atlas_size = std::make_shared<int>(UvAtlasOptions{}.size);
+  CLI::App* atlas = cmd->add_subcommand("uv-atlas", "Draw a model's UV layout (texture coordinates) as a PNG");
+  atlas->add_option("model", *atlas_name, "model name or .npz path")->capture_default_str();
+  atlas->add_option("--sex", *atlas_sex, "variant of a model family")->capture_default_str();
+  atlas->add_option("--size", *atlas_size, "image width and height, pixels (16–8192)")->capture_default_str();
+  atlas->add_option("-o,--output", *atlas_out, "PNG file to write")->required();
+  atlas->callback([=] {
+    const BodyModel m = load_model(*atlas_name, parse_sex(*atlas_sex));
+    if (!m.has_uvs()) throw Error(ErrorKind::Unsupported, "model '" + m.name() + "' has no UV layout", "model");
+    UvAtlasOptions ao;
+    ao.size = *atlas_size;
+    write_file(*atlas_out, render_uv_atlas_png(m.data().uv_coordinates, m.data().uv_faces, ao));
+    std::cout << "wrote " << *atlas_out << " (" << m.data().uv_coordinates.rows() << " UVs for "
+              << m.vertex_count() << " vertices)\n";
+  });
   CLI::App* list = cmd->add_subcommand("list", "List the models in the models folder");
   list->callback([] {
     const std::string dir = models_dir();

@@ -652,7 +652,7 @@ struct Api::Impl {
       out.download_name = stem + ".glb";
     } else if (kind == "obj") {
       out.content_type = "text/plain; charset=utf-8";
-      out.body = write_obj(b.avatar.rest_vertices, m.faces(),
+      out.body = write_obj(b.avatar.rest_vertices, m.faces(), m.data().uv_coordinates, m.data().uv_faces,
                            "Caliper avatar, model " + m.name() + ", regressor " + b.avatar.regressor + ", metres, +Y up, facing +Z");
       out.download_name = stem + ".obj";
     } else {

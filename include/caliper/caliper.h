@@ -16,3 +16,4 @@
 #include "caliper/avatar.h"
 #include "caliper/export/gltf.h"
 #include "caliper/export/report.h"
+#include "caliper/export/uv_atlas.h"

@@ -59,6 +59,20 @@ namespace {
 
 bool all_finite(const Eigen::Ref<const Eigen::MatrixXd>& m) { return m.allFinite(); }
 
+void validate_uvs(const BodyModelData& d) {
+  const Eigen::Index u = d.uv_coordinates.rows(), f = d.uv_faces.rows();
+  if (u == 0 && f == 0) return;  // no UV layout
+  if (u == 0) inconsistent("uv_coordinates", "missing while uv_faces has " + std::to_string(f) + " rows");
+  if (f == 0) inconsistent("uv_faces", "missing while uv_coordinates has " + std::to_string(u) + " rows");
+  if (f != d.faces.rows())
+    inconsistent("uv_faces", "has " + std::to_string(f) + " rows for " + std::to_string(d.faces.rows()) + " faces");
+  if (d.uv_faces.minCoeff() < 0 || d.uv_faces.maxCoeff() >= u)
+    inconsistent("uv_faces", "index out of range [0, " + std::to_string(u) + ")");
+  if (!d.uv_coordinates.allFinite()) inconsistent("uv_coordinates", "contains NaN or infinity");
+  if (d.uv_coordinates.minCoeff() < 0 || d.uv_coordinates.maxCoeff() > 1)
+    inconsistent("uv_coordinates", "values must lie in [0, 1]");
+}
+
 void validate(const BodyModelData& d) {
   const Eigen::Index n = d.template_vertices.rows();
   if (n < 4) inconsistent("template_vertices", "needs at least 4 vertices, has " + std::to_string(n));
@@ -105,6 +119,7 @@ void validate(const BodyModelData& d) {
     for (const auto& l : m.landmarks)
       if (!d.landmarks.count(l))
         inconsistent("measurements", "measurement '" + m.name + "' uses unknown landmark '" + l + "'");
+  validate_uvs(d);
   if (!std::isfinite(d.weight_from_volume.a) || !std::isfinite(d.weight_from_volume.b) || d.weight_from_volume.a <= 0)
     inconsistent("weight_from_volume", "coefficients must be finite with a > 0");
 }

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <unordered_map>
 #include <vector>
@@ -151,6 +152,90 @@ std::vector<std::pair<std::int32_t, std::int32_t>> self_intersections(const Vert
           for (int j = 0; j < 3; ++j) shared = shared || faces(f, i) == faces(g, j);
         if (shared) continue;
         if (crosses(f, g) || crosses(g, f)) hits.emplace_back(static_cast<std::int32_t>(f), g);
+      }
+    });
+  }
+  return hits;
+}
+
+Eigen::VectorXd uv_signed_areas(const UvCoordinates& uv, const Faces& uv_faces) {
+  Eigen::VectorXd area(uv_faces.rows());
+  for (Eigen::Index f = 0; f < uv_faces.rows(); ++f) {
+    const Eigen::Vector2d a = uv.row(uv_faces(f, 0)), b = uv.row(uv_faces(f, 1)), c = uv.row(uv_faces(f, 2));
+    area(f) = 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+  }
+  return area;
+}
+
+namespace {
+
+// Do the interiors of two non-degenerate triangles overlap by more than `tolerance`? Separating
+// axis test: two convex polygons are disjoint or only touch iff some edge normal of either
+// separates their projections (a gap ≥ −tolerance counts as separated).
+bool triangles_overlap(const std::array<Eigen::Vector2d, 3>& p, const std::array<Eigen::Vector2d, 3>& q,
+                       double tolerance) {
+  auto separated_by_edges_of = [&](const std::array<Eigen::Vector2d, 3>& s, const std::array<Eigen::Vector2d, 3>& t) {
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector2d e = s[static_cast<size_t>((i + 1) % 3)] - s[static_cast<size_t>(i)];
+      const double len = e.norm();
+      if (len == 0) continue;
+      const Eigen::Vector2d n(-e.y() / len, e.x() / len);
+      double s0 = 1e300, s1 = -1e300, t0 = 1e300, t1 = -1e300;
+      for (int k = 0; k < 3; ++k) {
+        const double a = n.dot(s[static_cast<size_t>(k)]), b = n.dot(t[static_cast<size_t>(k)]);
+        s0 = std::min(s0, a), s1 = std::max(s1, a), t0 = std::min(t0, b), t1 = std::max(t1, b);
+      }
+      if (s1 <= t0 + tolerance || t1 <= s0 + tolerance) return true;
+    }
+    return false;
+  };
+  return !separated_by_edges_of(p, q) && !separated_by_edges_of(q, p);
+}
+
+}  // namespace
+
+std::vector<std::pair<std::int32_t, std::int32_t>> uv_overlaps(const UvCoordinates& uv, const Faces& uv_faces,
+                                                               double tolerance, std::size_t max_pairs) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> hits;
+  const Eigen::Index nf = uv_faces.rows();
+  if (nf == 0 || uv.rows() == 0) return hits;
+  const Eigen::VectorXd area = uv_signed_areas(uv, uv_faces);
+  auto corners = [&](Eigen::Index f) {
+    return std::array<Eigen::Vector2d, 3>{uv.row(uv_faces(f, 0)).transpose(), uv.row(uv_faces(f, 1)).transpose(),
+                                          uv.row(uv_faces(f, 2)).transpose()};
+  };
+  // Grid cell: about twice the mean triangle extent; at most 2048 cells a side.
+  const Eigen::Vector2d lo = uv.colwise().minCoeff().transpose(), hi = uv.colwise().maxCoeff().transpose();
+  double mean_extent = 0;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const auto c = corners(f);
+    mean_extent += (c[0].cwiseMax(c[1]).cwiseMax(c[2]) - c[0].cwiseMin(c[1]).cwiseMin(c[2])).maxCoeff();
+  }
+  const double cell = std::max({1e-12, 2 * mean_extent / static_cast<double>(nf), (hi - lo).maxCoeff() / 2048});
+  const std::int64_t ny = static_cast<std::int64_t>(std::floor((hi.y() - lo.y()) / cell)) + 1;
+  auto cells_of = [&](Eigen::Index f, auto&& visit) {
+    const auto c = corners(f);
+    const Eigen::Vector2d b0 = c[0].cwiseMin(c[1]).cwiseMin(c[2]), b1 = c[0].cwiseMax(c[1]).cwiseMax(c[2]);
+    const auto x0 = static_cast<std::int64_t>(std::floor((b0.x() - lo.x()) / cell)),
+               x1 = static_cast<std::int64_t>(std::floor((b1.x() - lo.x()) / cell)),
+               y0 = static_cast<std::int64_t>(std::floor((b0.y() - lo.y()) / cell)),
+               y1 = static_cast<std::int64_t>(std::floor((b1.y() - lo.y()) / cell));
+    for (std::int64_t x = x0; x <= x1; ++x)
+      for (std::int64_t y = y0; y <= y1; ++y) visit(x * ny + y);
+  };
+  const double degenerate = 1e-18;
+  std::unordered_map<std::int64_t, std::vector<std::int32_t>> grid;
+  for (Eigen::Index f = 0; f < nf; ++f)
+    if (std::abs(area(f)) > degenerate) cells_of(f, [&](std::int64_t k) { grid[k].push_back(static_cast<std::int32_t>(f)); });
+  std::vector<std::int32_t> seen_stamp(static_cast<size_t>(nf), -1);
+  for (Eigen::Index f = 0; f < nf && hits.size() < max_pairs; ++f) {
+    if (std::abs(area(f)) <= degenerate) continue;
+    const auto p = corners(f);
+    cells_of(f, [&](std::int64_t k) {
+      for (std::int32_t g : grid[k]) {
+        if (g <= f || seen_stamp[static_cast<size_t>(g)] == f || hits.size() >= max_pairs) continue;
+        seen_stamp[static_cast<size_t>(g)] = static_cast<std::int32_t>(f);
+        if (triangles_overlap(p, corners(g), tolerance)) hits.emplace_back(static_cast<std::int32_t>(f), g);
       }
     });
   }

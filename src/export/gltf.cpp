@@ -14,6 +14,13 @@
 // One skin with inverse bind matrices (the inverse of each joint's rest world transform, i.e. a
 // translation by −joint position), skeleton = the root joint. Each vertex keeps its 4 largest
 // skin weights, renormalised so they sum to exactly 1 in float.
+//
+// Texture coordinates: a model's UV layout is OBJ-style (a vertex on a seam has one UV per
+// island), glTF's is per vertex. So the mesh is split: vertices 0..N−1 are the model's, each
+// with the UV of its first corner in face order, and every further (vertex, UV) pair a corner
+// uses is appended as a copy of its vertex (position, normal, skin, _UNCERTAINTY). Normals are
+// computed on the unsplit mesh, so shading has no seam. TEXCOORD_0 = (u, 1 − v): glTF's UV origin
+// is the image's top-left corner, OBJ's the bottom-left.
 #include "caliper/export/gltf.h"
 
 #include <tiny_gltf.h>
@@ -27,6 +34,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string_view>
 #include <utility>
@@ -157,13 +165,53 @@ void check_inputs(const BodyModel& model, const Vertices& rest, const GlbOptions
   }
 }
 
+// The mesh as written: vertex v of the output is model vertex source[v] with UV uv[v].
+struct SplitMesh {
+  std::vector<size_t> source;
+  std::vector<std::array<double, 2>> uv;  // OBJ convention; (0, 0) without a layout
+  Faces faces;                            // F×3 into the output vertices
+};
+
+SplitMesh split_at_uv_seams(const BodyModel& model) {
+  const size_t n = static_cast<size_t>(model.vertex_count());
+  SplitMesh out;
+  out.source.resize(n);
+  for (size_t v = 0; v < n; ++v) out.source[v] = v;
+  out.uv.assign(n, {0.0, 0.0});
+  out.faces = model.faces();
+  if (!model.has_uvs()) return out;
+  const Faces& uv_faces = model.data().uv_faces;
+  const UvCoordinates& uv = model.data().uv_coordinates;
+  std::vector<std::int32_t> first_uv(n, -1);  // the UV each model vertex keeps
+  std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> copies;  // (vertex, uv) → output vertex
+  for (Eigen::Index f = 0; f < out.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t v = model.faces()(f, k), t = uv_faces(f, k);
+      auto& kept = first_uv[static_cast<size_t>(v)];
+      if (kept < 0) kept = t;
+      if (kept == t) {
+        out.uv[static_cast<size_t>(v)] = {uv(t, 0), uv(t, 1)};
+        continue;
+      }
+      auto [it, fresh] = copies.try_emplace({v, t}, static_cast<std::int32_t>(out.source.size()));
+      if (fresh) {
+        out.source.push_back(static_cast<size_t>(v));
+        out.uv.push_back({uv(t, 0), uv(t, 1)});
+      }
+      out.faces(f, k) = it->second;
+    }
+  return out;
+}
+
 }  // namespace
 
 std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
   check_inputs(model, rest, options);
   const auto& data = model.data();
-  const size_t n = static_cast<size_t>(rest.rows());
   const int joint_count = model.joint_count();
+  const SplitMesh split = split_at_uv_seams(model);
+  const size_t n = split.source.size();  // vertices written
+  auto src = [&](size_t v) { return static_cast<Eigen::Index>(split.source[v]); };
 
   tinygltf::Model gltf;
   gltf.asset.version = "2.0";
@@ -175,7 +223,7 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
   std::vector<double> pmin(3, std::numeric_limits<double>::infinity()), pmax(3, -std::numeric_limits<double>::infinity());
   for (size_t v = 0; v < n; ++v)
     for (int c = 0; c < 3; ++c) {
-      const float x = static_cast<float>(rest(static_cast<Eigen::Index>(v), c));
+      const float x = static_cast<float>(rest(src(v), c));
       positions[v * 3 + c] = x;
       pmin[c] = std::min(pmin[c], static_cast<double>(x));
       pmax[c] = std::max(pmax[c], static_cast<double>(x));
@@ -185,7 +233,7 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
   std::vector<float> normals(n * 3);
   for (size_t v = 0; v < n; ++v) {
     float f[3];
-    for (int c = 0; c < 3; ++c) f[c] = static_cast<float>(normals_d(static_cast<Eigen::Index>(v), c));
+    for (int c = 0; c < 3; ++c) f[c] = static_cast<float>(normals_d(src(v), c));
     const float len = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
     for (int c = 0; c < 3; ++c) normals[v * 3 + c] = len > 0 ? f[c] / len : (c == 1 ? 1.0f : 0.0f);
   }
@@ -205,7 +253,7 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
     if (small) joints8.resize(n * 4);
     else joints16.resize(n * 4);
     for (size_t v = 0; v < n; ++v) {
-      const Influences inf = top_influences(data.skin_weights, static_cast<Eigen::Index>(v));
+      const Influences inf = top_influences(data.skin_weights, src(v));
       for (int k = 0; k < 4; ++k) {
         weights[v * 4 + k] = inf.weights[k];
         if (small) joints8[v * 4 + k] = static_cast<std::uint8_t>(inf.joints[k]);
@@ -218,13 +266,25 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
     primitive.attributes["WEIGHTS_0"] =
         bin.add_accessor(weights, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, n, kArrayBuffer);
   }
-  if (!options.extra_vertex_scalar.empty())
-    primitive.attributes["_UNCERTAINTY"] = bin.add_accessor(options.extra_vertex_scalar, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                            TINYGLTF_TYPE_SCALAR, n, kArrayBuffer);
+  if (model.has_uvs()) {
+    std::vector<float> texcoords(n * 2);
+    for (size_t v = 0; v < n; ++v) {
+      texcoords[v * 2] = static_cast<float>(split.uv[v][0]);
+      texcoords[v * 2 + 1] = static_cast<float>(1.0 - split.uv[v][1]);  // glTF: v down from the top-left
+    }
+    primitive.attributes["TEXCOORD_0"] =
+        bin.add_accessor(texcoords, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, n, kArrayBuffer);
+  }
+  if (!options.extra_vertex_scalar.empty()) {
+    std::vector<float> extra(n);
+    for (size_t v = 0; v < n; ++v) extra[v] = options.extra_vertex_scalar[split.source[v]];
+    primitive.attributes["_UNCERTAINTY"] =
+        bin.add_accessor(extra, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, n, kArrayBuffer);
+  }
 
   // Indices: 16-bit when every index fits below 65535 (that value is the primitive-restart
   // sentinel, which glTF forbids as an index).
-  const Faces& faces = model.faces();
+  const Faces& faces = split.faces;
   const size_t index_count = static_cast<size_t>(faces.size());
   if (n < 65535) {
     std::vector<std::uint16_t> idx(index_count);
@@ -336,6 +396,20 @@ void save_glb(const std::string& path, const BodyModel& model, const Vertices& r
 // ---- Wavefront OBJ ---------------------------------------------------------------------------
 
 std::string write_obj(const Vertices& vertices, const Faces& faces, const std::string& comment) {
+  return write_obj(vertices, faces, UvCoordinates(), Faces(), comment);
+}
+
+std::string write_obj(const Vertices& vertices, const Faces& faces, const UvCoordinates& uv, const Faces& uv_faces,
+                      const std::string& comment) {
+  const bool textured = uv_faces.rows() > 0;
+  if (textured && uv_faces.rows() != faces.rows())
+    throw Error(ErrorKind::InvalidArgument,
+                "OBJ export: " + std::to_string(uv_faces.rows()) + " UV faces for " + std::to_string(faces.rows()) + " faces",
+                "uv_faces");
+  if (textured && (uv_faces.minCoeff() < 0 || uv_faces.maxCoeff() >= uv.rows()))
+    throw Error(ErrorKind::InvalidArgument, "OBJ export: UV index out of range [0, " + std::to_string(uv.rows()) + ")",
+                "uv_faces");
+  if (!uv.allFinite()) throw Error(ErrorKind::InvalidArgument, "OBJ export: UVs contain NaN or infinity", "uv_coordinates");
   if (!vertices.allFinite())
     throw Error(ErrorKind::InvalidArgument, "OBJ export: vertices contain NaN or infinity", "vertices");
   if (faces.size() > 0 && (faces.minCoeff() < 0 || faces.maxCoeff() >= vertices.rows()))
@@ -364,13 +438,21 @@ std::string write_obj(const Vertices& vertices, const Faces& faces, const std::s
     for (int c = 0; c < 3; ++c) { out += ' '; append_number(out, normals(v, c)); }
     out += '\n';
   }
+  if (textured)
+    for (Eigen::Index t = 0; t < uv.rows(); ++t) {
+      out += "vt";
+      for (int c = 0; c < 2; ++c) { out += ' '; append_number(out, uv(t, c)); }
+      out += '\n';
+    }
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     out += 'f';
     for (int c = 0; c < 3; ++c) {
       const std::string i = std::to_string(faces(f, c) + 1);  // OBJ is 1-based
       out += ' ';
       out += i;
-      out += "//";
+      out += '/';
+      if (textured) out += std::to_string(uv_faces(f, c) + 1);
+      out += '/';
       out += i;
     }
     out += '\n';
@@ -384,7 +466,7 @@ class ObjParser {
  public:
   explicit ObjParser(std::string path) : path_(std::move(path)) {}
 
-  Mesh parse(std::string_view text) {
+  TexturedMesh parse(std::string_view text) {
     size_t pos = 0;
     while (pos < text.size()) {
       size_t eol = text.find('\n', pos);
@@ -487,7 +569,12 @@ class ObjParser {
       positions_.push_back(xyz);
     } else if (keyword == "vt" || keyword == "vn") {
       int k = 0;
-      for (std::string_view t = next_token(rest); !t.empty(); t = next_token(rest), ++k) parse_double(t);
+      std::array<double, 2> st{};
+      for (std::string_view t = next_token(rest); !t.empty(); t = next_token(rest), ++k) {
+        const double value = parse_double(t);
+        if (k < 2) st[static_cast<size_t>(k)] = value;
+      }
+      if (keyword == "vt") texcoords_.push_back(st);
       if (keyword == "vn" && k != 3) fail("normal needs 3 numbers, has " + std::to_string(k));
       if (keyword == "vt" && (k < 1 || k > 3)) fail("texture coordinate needs 1 to 3 numbers, has " + std::to_string(k));
       ++(keyword == "vn" ? normal_count_ : texcoord_count_);
@@ -515,7 +602,7 @@ class ObjParser {
     // Other statements (o, g, s, usemtl, mtllib, l, p, vp, …) carry nothing a body mesh needs.
   }
 
-  Mesh finish() {
+  TexturedMesh finish() {
     if (faces_.empty()) fail("no faces", line_no_);
     const auto nv = static_cast<std::int64_t>(positions_.size());
     if (nv > std::numeric_limits<std::int32_t>::max()) fail("too many vertices", line_no_);
@@ -531,7 +618,8 @@ class ObjParser {
       }
       triangles += f.corners.size() - 2;
     }
-    Mesh mesh;
+    TexturedMesh out;
+    Mesh& mesh = out.mesh;
     mesh.vertices.resize(nv, 3);
     for (std::int64_t v = 0; v < nv; ++v)
       for (int c = 0; c < 3; ++c) mesh.vertices(v, c) = positions_[static_cast<size_t>(v)][static_cast<size_t>(c)];
@@ -541,20 +629,38 @@ class ObjParser {
       for (size_t k = 1; k + 1 < f.corners.size(); ++k, ++t)
         mesh.faces.row(t) << static_cast<std::int32_t>(f.corners[0].v), static_cast<std::int32_t>(f.corners[k].v),
             static_cast<std::int32_t>(f.corners[k + 1].v);
-    return mesh;
+    // Texture coordinates only when every corner has one (the same fan as the faces).
+    bool every_corner = true;
+    for (const auto& f : faces_)
+      for (const Corner& c : f.corners) every_corner = every_corner && c.vt >= 0;
+    if (every_corner && !texcoords_.empty()) {
+      out.uv_coordinates.resize(static_cast<Eigen::Index>(texcoords_.size()), 2);
+      for (size_t i = 0; i < texcoords_.size(); ++i)
+        out.uv_coordinates.row(static_cast<Eigen::Index>(i)) << texcoords_[i][0], texcoords_[i][1];
+      out.uv_faces.resize(static_cast<Eigen::Index>(triangles), 3);
+      t = 0;
+      for (const auto& f : faces_)
+        for (size_t k = 1; k + 1 < f.corners.size(); ++k, ++t)
+          out.uv_faces.row(t) << static_cast<std::int32_t>(f.corners[0].vt), static_cast<std::int32_t>(f.corners[k].vt),
+              static_cast<std::int32_t>(f.corners[k + 1].vt);
+    }
+    return out;
   }
 
   std::string path_;
   int line_no_ = 0;
   std::vector<std::array<double, 3>> positions_;
   std::int64_t texcoord_count_ = 0;
+  std::vector<std::array<double, 2>> texcoords_;
   std::int64_t normal_count_ = 0;
   std::vector<PendingFace> faces_;
 };
 
 }  // namespace
 
-Mesh read_obj(const std::string& path) {
+Mesh read_obj(const std::string& path) { return read_obj_textured(path).mesh; }
+
+TexturedMesh read_obj_textured(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Error(ErrorKind::Io, "'" + path + "' is a directory", path);
   std::ifstream file(path, std::ios::binary);

@@ -109,6 +109,9 @@ struct Scene {
   const Faces* faces = nullptr;
   Vertices normals;
   std::vector<float> scalar_t;  // per-vertex heat-map coordinate in [0, 1], or empty
+  const UvCoordinates* uv = nullptr;  // checker texture coordinates, or null
+  const Faces* uv_faces = nullptr;
+  int checker_squares = 0;
   Rgb albedo;                   // linear
   Vec3 lo, hi, target;
   double floor_y = 0;
@@ -186,8 +189,23 @@ Scene make_scene(const Vertices& vertices, const Faces& faces, const RenderOptio
                 o.width < 1 || o.width > kMaxSide ? "width" : "height");
   for (float c : o.body_rgb)
     if (!(c >= 0.0f && c <= 1.0f)) throw Error(ErrorKind::InvalidArgument, "body colour components must be in [0, 1]", "body_rgb");
+  if (o.uv_faces.rows() > 0) {
+    if (o.uv_faces.rows() != faces.rows())
+      throw Error(ErrorKind::InvalidArgument, "uv_faces needs one row per face", "uv_faces");
+    if (o.uv_faces.minCoeff() < 0 || o.uv_faces.maxCoeff() >= o.uv_coordinates.rows())
+      throw Error(ErrorKind::InvalidArgument, "UV index out of range", "uv_faces");
+    if (!o.uv_coordinates.allFinite())
+      throw Error(ErrorKind::InvalidArgument, "UV coordinates contain NaN or infinite values", "uv_coordinates");
+    if (o.checker_squares < 1 || o.checker_squares > 4096)
+      throw Error(ErrorKind::InvalidArgument, "checker_squares must be in [1, 4096]", "checker_squares");
+  }
 
   Scene s;
+  if (o.uv_faces.rows() > 0) {
+    s.uv = &o.uv_coordinates;
+    s.uv_faces = &o.uv_faces;
+    s.checker_squares = o.checker_squares;
+  }
   s.vertices = &vertices;
   s.faces = &faces;
   s.normals = vertex_normals(vertices, faces);
@@ -345,10 +363,11 @@ Lights camera_lights(const Camera& c) {
   return l;
 }
 
-Rgb shade_body(const Scene& s, const Camera& c, const Lights& l, const Vec3& p, Vec3 n, float scalar_t) {
+Rgb shade_body(const Scene& s, const Camera& c, const Lights& l, const Vec3& p, Vec3 n, float scalar_t,
+               const Rgb* texture = nullptr) {
   const Vec3 to_eye = c.ortho ? Vec3(-c.forward) : Vec3((c.eye - p).normalized());
   if (n.dot(to_eye) < 0) n = -n;  // inside of an open or inconsistently wound mesh
-  const Rgb albedo = s.scalar_t.empty() ? s.albedo : heat_colour(scalar_t);
+  const Rgb albedo = texture ? *texture : s.scalar_t.empty() ? s.albedo : heat_colour(scalar_t);
   const float hemi = static_cast<float>(0.5 + 0.5 * n.y());
   Rgb diffuse = l.ground * (1 - hemi) + l.sky * hemi;
   Rgb specular = Rgb::Zero();
@@ -489,7 +508,17 @@ void render_view(const Scene& s, const Camera& c, int width, int height, std::ve
         float st = 0;
         if (!s.scalar_t.empty())
           st = static_cast<float>(b0 * s.scalar_t[ia] + b1 * s.scalar_t[ib] + b2 * s.scalar_t[ic]);
-        colour = shade_body(s, c, lights, p, n, st);
+        if (s.uv) {  // checker texture: light and dark squares of the unit UV square
+          const auto& uf = *s.uv_faces;
+          const Eigen::Vector2d q = b0 * s.uv->row(uf(t, 0)).transpose() + b1 * s.uv->row(uf(t, 1)).transpose() +
+                                    b2 * s.uv->row(uf(t, 2)).transpose();
+          const auto cell = static_cast<long>(std::floor(q.x() * s.checker_squares)) +
+                            static_cast<long>(std::floor(q.y() * s.checker_squares));
+          const Rgb texture = (cell & 1) ? Rgb(0.10f, 0.14f, 0.22f) : Rgb(0.78f, 0.72f, 0.62f);
+          colour = shade_body(s, c, lights, p, n, st, &texture);
+        } else {
+          colour = shade_body(s, c, lights, p, n, st);
+        }
       }
       out[static_cast<size_t>(y / kSupersample) * width + x / kSupersample] += colour * norm;
     }

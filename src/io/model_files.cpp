@@ -115,6 +115,30 @@ class Arrays {
   ArrayMap arrays_;
 };
 
+// The optional UV layout: uv_coordinates (U×2, in [0, 1]) and uv_faces (F×3, one row per face).
+// Shapes are checked against the face count before anything is copied; U is at most 3F (one UV
+// per face corner).
+void read_uv_layout(const Arrays& f, BodyModelData& d) {
+  const bool has_coordinates = f.has("uv_coordinates"), has_faces = f.has("uv_faces");
+  if (!has_coordinates && !has_faces) return;
+  if (!has_coordinates) f.fail("uv_coordinates", "missing while 'uv_faces' is present");
+  if (!has_faces) f.fail("uv_faces", "missing while 'uv_coordinates' is present");
+  const std::int64_t face_count = d.faces.rows();
+  const Array& uv_shape = f.numeric("uv_coordinates", {-1, 2});
+  const std::int64_t u = uv_shape.shape[0];
+  if (u < 1 || u > 3 * face_count)
+    f.fail("uv_coordinates", "has " + std::to_string(u) + " rows, expected 1 to 3×" + std::to_string(face_count) + " (faces)");
+  f.numeric("uv_faces", {face_count, 3});  // the row count must be the face count
+  const Array& uv = f.finite("uv_coordinates", {u, 2});
+  for (std::size_t k = 0; k < uv.numbers.size(); ++k)
+    if (uv.numbers[k] < 0 || uv.numbers[k] > 1)
+      f.fail("uv_coordinates", "entry " + std::to_string(k) + " = " + Arrays::number(uv.numbers[k]) + " is outside [0, 1]");
+  const auto uv_faces = f.indices("uv_faces", {face_count, 3}, 0, u);
+  d.uv_coordinates = Eigen::Map<const UvCoordinates>(uv.numbers.data(), u, 2);
+  d.uv_faces.resize(face_count, 3);
+  for (std::size_t k = 0; k < uv_faces.size(); ++k) d.uv_faces.data()[k] = static_cast<std::int32_t>(uv_faces[k]);
+}
+
 // ---- sparse matrices as scipy's CSR/CSC parts: <prefix>_data, _indices, _indptr, _shape ----
 
 // A rows × cols matrix (the shape the dense arrays already fixed). The declared shape, the entry
@@ -270,6 +294,8 @@ BodyModel native_from_arrays(const Arrays& f) {
     if (!d.landmarks.emplace(ln[static_cast<std::size_t>(i)], static_cast<int>(lv[static_cast<std::size_t>(i)])).second)
       f.fail("landmark_names", "duplicate landmark '" + ln[static_cast<std::size_t>(i)] + "'");
   }
+
+  read_uv_layout(f, d);
 
   d.measurements = definitions_from_json(parse_json_text(f.string("measurements"), f.path(), "measurements"), f.path());
   const Array& w = f.finite("weight_from_volume", {2});
@@ -478,6 +504,13 @@ void save_model(const BodyModel& model, const std::string& path) {
   out["landmark_names"] = npz::write_npy_unicode_array(landmark_names, {l});
   out["landmark_vertices"] = npz::write_npy_i64(landmark_vertices, {l});
   out["measurements"] = npz::write_npy_unicode(definitions_to_json(d.measurements).dump());
+  if (model.has_uvs()) {
+    out["uv_coordinates"] = npz::write_npy_f64(
+        std::vector<double>(d.uv_coordinates.data(), d.uv_coordinates.data() + d.uv_coordinates.size()),
+        {static_cast<std::int64_t>(d.uv_coordinates.rows()), 2});
+    out["uv_faces"] = npz::write_npy_i64(std::vector<std::int64_t>(d.uv_faces.data(), d.uv_faces.data() + d.uv_faces.size()),
+                                         {static_cast<std::int64_t>(d.uv_faces.rows()), 3});
+  }
   out["weight_from_volume"] = npz::write_npy_f64({d.weight_from_volume.a, d.weight_from_volume.b}, {2});
   json meta = json::object();
   for (const auto& [key, value] : d.metadata) meta[key] = value;

@@ -159,7 +159,8 @@ BaseMesh read_base_mesh(const std::string& dir) {
   BaseMesh m;
   std::vector<double> xyz;
   std::vector<std::array<int, 3>> tris;
-  std::vector<std::vector<long>> polygons;
+  std::vector<std::vector<long>> polygons, polygon_uvs;  // vertex and `vt` indices, 0-based (−1: none)
+  std::vector<std::array<double, 2>> uvs;
   for_each_line(text, [&](int line_no, const auto& f) {
     auto bad = [&](const std::string& what) {
       throw Error(ErrorKind::Format, obj.string() + ": line " + std::to_string(line_no) + ": " + what, "base.obj");
@@ -171,16 +172,28 @@ BaseMesh read_base_mesh(const std::string& dir) {
         if (!parse_number(f[static_cast<size_t>(c)], v)) bad("'" + std::string(f[static_cast<size_t>(c)]) + "' is not a finite number");
         xyz.push_back(v * kDecimetre);
       }
+    } else if (f[0] == "vt") {
+      std::array<double, 2> uv{-1, -1};  // malformed: never valid, so the body gets no UVs
+      if (f.size() >= 3) {
+        double a = 0, b = 0;
+        if (parse_number(f[1], a) && parse_number(f[2], b)) uv = {a, b};
+      }
+      uvs.push_back(uv);
     } else if (f[0] == "f") {
       if (f.size() < 4) bad("a face needs at least 3 vertices");
-      std::vector<long> poly;
+      std::vector<long> poly, poly_uv;
       for (size_t k = 1; k < f.size(); ++k) {
-        const std::string_view idx = f[k].substr(0, f[k].find('/'));
+        const size_t slash = f[k].find('/');
+        const std::string_view idx = f[k].substr(0, slash);
         long v = 0;
         if (!parse_int(idx, v) || v < 1) bad("face vertex '" + std::string(f[k]) + "' is not a positive index");
         poly.push_back(v - 1);
+        long t = 0;
+        const std::string_view tail = slash == std::string_view::npos ? std::string_view{} : f[k].substr(slash + 1);
+        poly_uv.push_back(parse_int(tail.substr(0, tail.find('/')), t) && t >= 1 ? t - 1 : -1);
       }
       polygons.push_back(std::move(poly));
+      polygon_uvs.push_back(std::move(poly_uv));
     }
   });
   const long n = static_cast<long>(xyz.size() / 3);
@@ -188,13 +201,19 @@ BaseMesh read_base_mesh(const std::string& dir) {
     throw Error(ErrorKind::Format, obj.string() + ": has " + std::to_string(n) + " vertices, hm08 has at least " +
                                        std::to_string(kBodyVertexCount), "base.obj");
   m.vertices = Eigen::Map<const Vertices>(xyz.data(), n, 3);
-  // Body faces are those using body vertices only; quads are split along their first diagonal.
-  for (const auto& poly : polygons) {
+  // Body faces are those using body vertices only; quads are split along their first diagonal,
+  // and their texture coordinates with them.
+  std::vector<std::array<long, 3>> uv_tris;
+  for (size_t p = 0; p < polygons.size(); ++p) {
+    const auto& poly = polygons[p];
+    const auto& puv = polygon_uvs[p];
     for (long v : poly)
       if (v >= n) throw Error(ErrorKind::Format, obj.string() + ": face vertex " + std::to_string(v + 1) + " beyond the vertex list", "base.obj");
     if (*std::max_element(poly.begin(), poly.end()) >= kBodyVertexCount) continue;
-    for (size_t k = 1; k + 1 < poly.size(); ++k)
+    for (size_t k = 1; k + 1 < poly.size(); ++k) {
       tris.push_back({static_cast<int>(poly[0]), static_cast<int>(poly[k]), static_cast<int>(poly[k + 1])});
+      uv_tris.push_back({puv[0], puv[k], puv[k + 1]});
+    }
   }
   m.body_faces.resize(static_cast<Eigen::Index>(tris.size()), 3);
   for (size_t i = 0; i < tris.size(); ++i)
@@ -213,6 +232,33 @@ BaseMesh read_base_mesh(const std::string& dir) {
   for (Eigen::Index f = 0; f < m.body_faces.rows(); ++f)
     volume += body.row(m.body_faces(f, 0)).dot(body.row(m.body_faces(f, 1)).cross(body.row(m.body_faces(f, 2)))) / 6;
   if (volume < 0) m.body_faces.col(1).swap(m.body_faces.col(2));
+
+  // Texture coordinates, all or none: every body corner needs a `vt` in [0, 1].
+  bool textured = !uv_tris.empty();
+  std::vector<long> used;
+  for (const auto& t : uv_tris)
+    for (long i : t) {
+      const bool valid = i >= 0 && i < static_cast<long>(uvs.size()) && uvs[static_cast<size_t>(i)][0] >= 0 &&
+                         uvs[static_cast<size_t>(i)][0] <= 1 && uvs[static_cast<size_t>(i)][1] >= 0 &&
+                         uvs[static_cast<size_t>(i)][1] <= 1;
+      textured = textured && valid;
+      if (valid) used.push_back(i);
+    }
+  if (textured) {
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    std::map<long, int> compact;
+    m.body_uv.resize(static_cast<Eigen::Index>(used.size()), 2);
+    for (size_t k = 0; k < used.size(); ++k) {
+      compact[used[k]] = static_cast<int>(k);
+      m.body_uv.row(static_cast<Eigen::Index>(k)) << uvs[static_cast<size_t>(used[k])][0], uvs[static_cast<size_t>(used[k])][1];
+    }
+    m.body_uv_faces.resize(static_cast<Eigen::Index>(uv_tris.size()), 3);
+    for (size_t i = 0; i < uv_tris.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        m.body_uv_faces(static_cast<Eigen::Index>(i), c) = compact.at(uv_tris[i][static_cast<size_t>(c)]);
+    if (volume < 0) m.body_uv_faces.col(1).swap(m.body_uv_faces.col(2));  // same corner order as the faces
+  }
 
   const fs::path groups_path = root / "mesh_metadata" / "basemesh_vertex_groups.json";
   const nlohmann::json groups = read_json(groups_path);

@@ -222,6 +222,8 @@ BodyModel reference_model(const Assets& assets, Sex sex) {
   d.sex = sex;
   d.template_vertices = body.body;
   d.faces = assets.mesh.body_faces;
+  d.uv_coordinates = assets.mesh.body_uv;  // MakeHuman's own UV layout, when the assets have one
+  d.uv_faces = assets.mesh.body_uv_faces;
   d.shape_directions = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(kBodyVertexCount), 1);
   d.joint_regressor = nearest_vertex_regressor(body.body, body.joints);
   d.joint_names = smpl_joint_names();
@@ -377,6 +379,8 @@ BodyModel build_makehuman_model(const Assets& assets, const std::vector<AnsurSub
   d.sex = sex;
   d.template_vertices = mean_body;
   d.faces = assets.mesh.body_faces;
+  d.uv_coordinates = assets.mesh.body_uv;  // MakeHuman's own UV layout, when the assets have one
+  d.uv_faces = assets.mesh.body_uv_faces;
   d.shape_directions = pca.directions;
   d.joint_regressor.resize(24, kBodyVertexCount);
   d.joint_regressor.setFromTriplets(jr.begin(), jr.end());

@@ -342,6 +342,9 @@ void validate(const Dimensions& dims, Sex sex) {
 
 // ---- The body builder --------------------------------------------------------------------
 enum class Part { Torso, Bridge, Leg, Arm, Thumb, Pole };
+// UV islands (uv_layout): the faces of each, in the order build() emits them.
+enum Island { kIslandTorso, kIslandLeg, kIslandSole = kIslandLeg + 2, kIslandArm = kIslandSole + 2,
+              kIslandThumb = kIslandArm + 2, kIslandCount = kIslandThumb + 2 };
 
 struct Builder {
   // Geometry output.
@@ -360,6 +363,11 @@ struct Builder {
   std::vector<int> bridge;
   std::array<std::vector<std::vector<int>>, 2> leg, arm, thumb;  // [side][ring][k]
   std::array<int, 2> hand_pole{}, thumb_pole{};
+  std::vector<std::pair<size_t, int>> island_starts;  // (first face, Island), in face order
+
+  void island(int id) {
+    if (want_topology) island_starts.push_back({faces.size(), id});
+  }
 
   int add(const Vec3& p, Part pt, int sd) {
     v.push_back(p);
@@ -971,6 +979,7 @@ void build(const BodyPlan& P, Builder& B) {
   }
   B.head_pole = B.add({0, P.head_top, P.torso.back().cz}, Part::Pole, 0);
   if (B.want_topology) {
+    B.island(kIslandTorso);
     for (int k = 0; k + 1 < nt; ++k)
       for (int j = 0; j < kTorsoN; ++j) {
         const int j1 = (j + 1) % kTorsoN;
@@ -1020,7 +1029,9 @@ void build(const BodyPlan& P, Builder& B) {
       }
     }
     if (B.want_topology) {
+      B.island(kIslandLeg + sd);
       for (int r = 0; r + 1 < nl; ++r) B.strip(L[static_cast<size_t>(r)], L[static_cast<size_t>(r + 1)], sd == 0);
+      B.island(kIslandSole + sd);
       // Sole: zip the lateral and medial halves of the last ring from toe to heel.
       const auto& R = L.back();
       std::vector<int> lat, med;
@@ -1098,6 +1109,7 @@ void build(const BodyPlan& P, Builder& B) {
     B.thumb_pole[static_cast<size_t>(sd)] = B.add(sd == 0 ? ttip : mirror(ttip), Part::Pole, sd == 0 ? 1 : -1);
     if (B.want_topology) {
       const bool flip = sd == 1;
+      B.island(kIslandArm + sd);
       for (int r = 0; r + 1 < na; ++r)
         for (int qq = 0; qq < kArmN; ++qq) {
           if (r >= h0 && r < h0 + kThumbRows && qq >= kThumbQ0 && qq < kThumbQ1) continue;
@@ -1108,6 +1120,7 @@ void build(const BodyPlan& P, Builder& B) {
           B.tri(R0[static_cast<size_t>(qq)], R1[static_cast<size_t>(q1)], R1[static_cast<size_t>(qq)], flip);
         }
       B.fan(A.back(), B.hand_pole[static_cast<size_t>(sd)], flip);
+      B.island(kIslandThumb + sd);
       for (size_t r = 0; r + 1 < T.size(); ++r) B.strip(T[r], T[r + 1], flip);
       B.fan(T.back(), B.thumb_pole[static_cast<size_t>(sd)], flip);
     }
@@ -1433,6 +1446,331 @@ void fair(std::vector<Vec3>& v) {
 const Topology& topology() {
   static const Topology topo = make_topology();
   return topo;
+}
+
+// ---- UV layout ----------------------------------------------------------------------------
+// Every part of the body is a stack of rings, so each part is unwrapped the way a tailor
+// flattens a sleeve: cut along one or more columns (seams), each piece between two seams an
+// island with u = arc length around each ring from its first seam (centred) and v = distance
+// along the stack (the mean distance between consecutive rings). Each strip of quads between two
+// rings then lies between two horizontal lines with its columns in order, so no island folds
+// over itself, and lengths around and along the body are kept (areas roughly so; a closing pole
+// is the point above its ring's centre, the sinusoidal projection's equal-area trick). Cutting
+// the torso and legs into front and back halves halves the shear where rings shrink fast (top
+// of the shoulders, top of the head, foot). Soles are flat: their UVs are their footprint.
+// Islands keep one scale (metres), are skyline-packed (quarter turns allowed) and scaled into
+// [0, 1]² with a margin.
+namespace {
+
+const Builder& ring_structure() {  // the rings and face order of topology()
+  static const Builder structure = [] {
+    Builder B;
+    B.want_topology = true;
+    build(plan_body(to_dims(typical_dimensions(Sex::Neutral)), Sex::Neutral), B);
+    return B;
+  }();
+  return structure;
+}
+
+struct RingStack {
+  const std::vector<std::vector<int>>* rings = nullptr;  // [ring][column], −1 inside a hole
+  std::vector<int> seams;  // the columns cut open, increasing; one island between each two
+  int pole = -1;           // the vertex closing the last ring, or −1
+  bool downward = false;   // v decreases along the stack (legs and arms: feet and hands down)
+};
+
+struct IslandUv {
+  std::vector<Eigen::Vector2d> uv;         // metres, island-local
+  std::vector<std::array<int, 3>> corners; // per face of the island: indices into uv
+};
+
+// Unwraps faces [f0, f1) of the topology, all between consecutive rings of `S` or fanning to its
+// pole, into one island per pair of consecutive seams; island_of[f − f0] tells each face's.
+std::vector<IslandUv> unwrap_stack(const RingStack& S, const Vertices& rest, const std::vector<std::array<int, 3>>& faces,
+                                   size_t f0, size_t f1, std::vector<int>& island_of) {
+  const auto& R = *S.rings;
+  const int nr = static_cast<int>(R.size()), n = static_cast<int>(R[0].size());
+  // Positions, a missing vertex (a hole) interpolated between the rings around the hole.
+  std::vector<std::vector<Vec3>> P(static_cast<size_t>(nr), std::vector<Vec3>(static_cast<size_t>(n)));
+  auto at = [&](int r, int c) { return R[static_cast<size_t>(r)][static_cast<size_t>(c)]; };
+  for (int c = 0; c < n; ++c)
+    for (int r = 0; r < nr; ++r) {
+      if (at(r, c) >= 0) {
+        P[static_cast<size_t>(r)][static_cast<size_t>(c)] = rest.row(at(r, c)).transpose();
+        continue;
+      }
+      int r0 = r, r1 = r;
+      while (r0 > 0 && at(r0, c) < 0) --r0;
+      while (r1 + 1 < nr && at(r1, c) < 0) ++r1;
+      const Vec3 a = rest.row(at(r0, c)).transpose(), b = rest.row(at(r1, c)).transpose();
+      P[static_cast<size_t>(r)][static_cast<size_t>(c)] = a + (b - a) * (static_cast<double>(r - r0) / (r1 - r0));
+    }
+  std::vector<double> v(static_cast<size_t>(nr), 0.0);
+  for (int r = 1; r < nr; ++r) {
+    double d = 0;
+    for (int c = 0; c < n; ++c) d += (P[static_cast<size_t>(r)][static_cast<size_t>(c)] - P[static_cast<size_t>(r - 1)][static_cast<size_t>(c)]).norm();
+    v[static_cast<size_t>(r)] = v[static_cast<size_t>(r - 1)] + d / n;
+  }
+  // Island p runs from column a = seams[p] over len columns to the next seam (all n for one).
+  const int parts = static_cast<int>(S.seams.size());
+  auto first = [&](int p) { return S.seams[static_cast<size_t>(p)]; };
+  auto length = [&](int p) { return parts == 1 ? n : (first((p + 1) % parts) - first(p) + n) % n; };
+  // u[p][r][k]: arc length around ring r from column a to column a + k (k = 0..len), centred.
+  std::vector<std::vector<std::vector<double>>> u(static_cast<size_t>(parts));
+  for (int p = 0; p < parts; ++p) {
+    const int a = first(p), len = length(p);
+    u[static_cast<size_t>(p)].assign(static_cast<size_t>(nr), std::vector<double>(static_cast<size_t>(len + 1), 0.0));
+    for (int r = 0; r < nr; ++r) {
+      auto& ur = u[static_cast<size_t>(p)][static_cast<size_t>(r)];
+      const auto& Pr = P[static_cast<size_t>(r)];
+      for (int k = 1; k <= len; ++k)
+        ur[static_cast<size_t>(k)] = ur[static_cast<size_t>(k - 1)] +
+                                     (Pr[static_cast<size_t>((a + k) % n)] - Pr[static_cast<size_t>((a + k - 1) % n)]).norm();
+      const double half = 0.5 * ur[static_cast<size_t>(len)];
+      for (double& x : ur) x -= half;
+    }
+  }
+  double pole_v = v.back();
+  if (S.pole >= 0) {
+    double d = 0;
+    for (int c = 0; c < n; ++c) d += (rest.row(S.pole).transpose() - P.back()[static_cast<size_t>(c)]).norm();
+    pole_v += d / n;
+  }
+  const double sign = S.downward ? -1.0 : 1.0;
+  std::map<int, std::pair<int, int>> where;  // vertex → (ring, column)
+  for (int r = 0; r < nr; ++r)
+    for (int c = 0; c < n; ++c)
+      if (at(r, c) >= 0) where[at(r, c)] = {r, c};
+  std::vector<IslandUv> out(static_cast<size_t>(parts));
+  std::vector<std::map<std::pair<int, int>, int>> uv_index(static_cast<size_t>(parts));  // (ring, k) → uv; ring nr = the pole
+  auto uv_of = [&](int p, int r, int k) {
+    auto& island = out[static_cast<size_t>(p)];
+    auto [it, fresh] = uv_index[static_cast<size_t>(p)].try_emplace({r, k}, static_cast<int>(island.uv.size()));
+    if (fresh)
+      island.uv.push_back(r == nr ? Eigen::Vector2d(0, sign * pole_v)
+                                  : Eigen::Vector2d(u[static_cast<size_t>(p)][static_cast<size_t>(r)][static_cast<size_t>(k)],
+                                                    sign * v[static_cast<size_t>(r)]));
+    return it->second;
+  };
+  auto is_seam = [&](int c) { return std::find(S.seams.begin(), S.seams.end(), c) != S.seams.end(); };
+  island_of.clear();
+  for (size_t f = f0; f < f1; ++f) {
+    std::array<std::pair<int, int>, 3> rc{};  // (ring, column); ring nr = the pole
+    int part = -1;
+    for (int i = 0; i < 3; ++i) {
+      const int id = faces[f][static_cast<size_t>(i)];
+      rc[static_cast<size_t>(i)] = id == S.pole ? std::pair<int, int>{nr, 0} : where.at(id);
+      const int c = rc[static_cast<size_t>(i)].second;
+      if (id == S.pole || is_seam(c)) continue;
+      for (int p = 0; p < parts; ++p) {  // the island whose columns hold this corner
+        const int k = (c - first(p) + n) % n;
+        if (k > 0 && k < length(p)) part = p;
+      }
+    }
+    if (part < 0) throw Error(ErrorKind::Format, "uv_layout: a face lies on seams only", "faces");  // not in this topology
+    const int a = first(part), len = length(part);
+    std::array<int, 3> k{};
+    bool far = false;
+    for (int i = 0; i < 3; ++i) {
+      k[static_cast<size_t>(i)] = (rc[static_cast<size_t>(i)].second - a + n) % n;
+      far = far || (rc[static_cast<size_t>(i)].first < nr && k[static_cast<size_t>(i)] > len / 2);
+    }
+    std::array<int, 3> corner{};
+    for (int i = 0; i < 3; ++i) {
+      const int r = rc[static_cast<size_t>(i)].first;
+      int ki = r == nr ? 0 : k[static_cast<size_t>(i)];
+      if (r < nr && ki == 0 && far) ki = len;  // the island's closing seam
+      corner[static_cast<size_t>(i)] = uv_of(part, r, ki);
+    }
+    out[static_cast<size_t>(part)].corners.push_back(corner);
+    island_of.push_back(part);
+  }
+  return out;
+}
+
+// A flat island: the faces' footprint on the floor (x, z).
+IslandUv unwrap_footprint(const Vertices& rest, const std::vector<std::array<int, 3>>& faces, size_t f0, size_t f1) {
+  IslandUv out;
+  std::map<int, int> uv_index;
+  for (size_t f = f0; f < f1; ++f) {
+    std::array<int, 3> corner{};
+    for (int i = 0; i < 3; ++i) {
+      const int id = faces[f][static_cast<size_t>(i)];
+      auto [it, fresh] = uv_index.try_emplace(id, static_cast<int>(out.uv.size()));
+      if (fresh) out.uv.emplace_back(rest(id, 0), rest(id, 2));
+      corner[static_cast<size_t>(i)] = it->second;
+    }
+    out.corners.push_back(corner);
+  }
+  return out;
+}
+
+double signed_area(const IslandUv& island) {
+  double total = 0;
+  for (const auto& c : island.corners) {
+    const Eigen::Vector2d a = island.uv[static_cast<size_t>(c[0])], b = island.uv[static_cast<size_t>(c[1])],
+                          d = island.uv[static_cast<size_t>(c[2])];
+    total += (b - a).x() * (d - a).y() - (b - a).y() * (d - a).x();
+  }
+  return 0.5 * total;
+}
+
+}  // namespace
+
+UvLayout uv_layout(const Vertices& rest) {
+  const Builder& B = ring_structure();
+  if (rest.rows() != static_cast<Eigen::Index>(B.v.size()))
+    throw Error(ErrorKind::InvalidArgument,
+                "uv_layout: expected the topology's " + std::to_string(B.v.size()) + " vertices, got " +
+                    std::to_string(rest.rows()), "vertices");
+  // Islands in order, with the pair each belongs to (a quarter turn applies to a whole pair).
+  std::vector<IslandUv> islands;
+  std::vector<int> pair_of;
+  std::vector<std::pair<size_t, size_t>> face_at(B.faces.size());  // face → (island, its index there)
+  for (size_t i = 0; i < B.island_starts.size(); ++i) {
+    const auto [f0, id] = B.island_starts[i];
+    const size_t f1 = i + 1 < B.island_starts.size() ? B.island_starts[i + 1].first : B.faces.size();
+    RingStack S;
+    int pair = 0;
+    if (id == kIslandTorso) {
+      S = {&B.torso, {kTorsoN / 4, 3 * kTorsoN / 4}, B.head_pole, false};  // front and back, cut at the sides
+    } else if (id == kIslandLeg || id == kIslandLeg + 1) {  // front and back, cut at the inseam and outseam
+      S = {&B.leg[static_cast<size_t>(id - kIslandLeg)], {kLegLateral, kLegMedial}, -1, true};
+      pair = 1;
+    } else if (id == kIslandArm || id == kIslandArm + 1) {  // a sleeve cut under the arm
+      const int sd = id - kIslandArm;
+      S = {&B.arm[static_cast<size_t>(sd)], {kArmBottom}, B.hand_pole[static_cast<size_t>(sd)], true};
+      pair = 3;
+    } else if (id == kIslandThumb || id == kIslandThumb + 1) {
+      const int sd = id - kIslandThumb;
+      S = {&B.thumb[static_cast<size_t>(sd)], {0}, B.thumb_pole[static_cast<size_t>(sd)], true};
+      pair = 4;
+    } else {
+      pair = 2;  // soles
+    }
+    std::vector<IslandUv> parts;
+    std::vector<int> part_of;
+    if (S.rings) {
+      parts = unwrap_stack(S, rest, B.faces, f0, f1, part_of);
+    } else {
+      parts = {unwrap_footprint(rest, B.faces, f0, f1)};
+      part_of.assign(f1 - f0, 0);
+    }
+    std::vector<size_t> next(parts.size(), 0);
+    for (size_t f = f0; f < f1; ++f) {
+      const auto p = static_cast<size_t>(part_of[f - f0]);
+      face_at[f] = {islands.size() + p, next[p]++};
+    }
+    for (auto& part : parts) {
+      // Faces run counter-clockwise seen from outside; so must their UVs (the right side's
+      // islands come out mirrored, which is what mirroring the left's texture needs).
+      if (signed_area(part) < 0)
+        for (auto& p : part.uv) p.x() = -p.x();
+      islands.push_back(std::move(part));
+      pair_of.push_back(pair);
+    }
+  }
+
+  // Skyline packing at one scale (bounding boxes): islands by decreasing height, each where its
+  // top ends lowest (then leftmost) above the islands placed so far, within a strip of a given
+  // width. Islands may turn a quarter turn (counter-clockwise, so their winding is kept), a left
+  // and right pair together; the strip width and turns that give the smallest square win (no
+  // turn on a tie).
+  constexpr double kGap = 0.02;     // metres between islands
+  constexpr double kMargin = 0.01;  // UV units around the atlas
+  const size_t count_islands = islands.size();
+  auto turned = [](const Eigen::Vector2d& p, bool turn) { return turn ? Eigen::Vector2d(-p.y(), p.x()) : p; };
+  struct Segment { double x0, x1, y; };  // the skyline: height y over [x0, x1)
+  auto pack = [&](double strip, const std::vector<Eigen::Vector2d>& size, const std::vector<size_t>& order,
+                  std::vector<Eigen::Vector2d>& at) {
+    std::vector<Segment> sky = {{0, strip + kGap, 0}};
+    double width = 0, height = 0;
+    for (size_t i : order) {
+      const double w = size[i].x() + kGap;
+      double best_top = 1e300, best_x = 0, best_y = 0;
+      for (const Segment& start : sky) {
+        if (start.x0 + w > strip + kGap + 1e-12) break;
+        double y = 0;
+        for (const Segment& g : sky)
+          if (g.x1 > start.x0 && g.x0 < start.x0 + w) y = std::max(y, g.y);
+        if (y + size[i].y() < best_top) { best_top = y + size[i].y(); best_x = start.x0; best_y = y; }
+      }
+      at[i] = {best_x, best_y};
+      width = std::max(width, best_x + size[i].x());
+      height = std::max(height, best_top);
+      std::vector<Segment> next;
+      const double x1 = best_x + w;
+      for (const Segment& g : sky) {
+        if (g.x0 < best_x) next.push_back({g.x0, std::min(g.x1, best_x), g.y});
+        if (g.x1 > x1) next.push_back({std::max(g.x0, x1), g.x1, g.y});
+      }
+      next.push_back({best_x, x1, best_top + kGap});
+      std::sort(next.begin(), next.end(), [](const Segment& a, const Segment& b) { return a.x0 < b.x0; });
+      sky.clear();
+      for (const Segment& g : next)
+        if (g.x1 > g.x0) {
+          if (!sky.empty() && sky.back().y == g.y) sky.back().x1 = g.x1;
+          else sky.push_back(g);
+        }
+    }
+    return std::max(width, height);
+  };
+  std::vector<Eigen::Vector2d> best(count_islands), lo(count_islands), size(count_islands);
+  std::vector<bool> turn(count_islands, false);
+  double best_side = 1e300;
+  for (int combo = 0; combo < 32; ++combo) {
+    std::vector<Eigen::Vector2d> lo_c(count_islands), size_c(count_islands), trial(count_islands);
+    std::vector<bool> turn_c(count_islands);
+    double widest = 0, total_width = 0;
+    for (size_t i = 0; i < count_islands; ++i) {
+      turn_c[i] = ((combo >> pair_of[i]) & 1) != 0;
+      Eigen::Vector2d a = turned(islands[i].uv[0], turn_c[i]), b = a;
+      for (const auto& p : islands[i].uv) a = a.cwiseMin(turned(p, turn_c[i])), b = b.cwiseMax(turned(p, turn_c[i]));
+      lo_c[i] = a;
+      size_c[i] = b - a;
+      widest = std::max(widest, size_c[i].x());
+      total_width += size_c[i].x() + kGap;
+    }
+    std::vector<size_t> order(count_islands);
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return size_c[a].y() > size_c[b].y(); });
+    constexpr int kTrials = 200;
+    for (int t = 0; t <= kTrials; ++t) {
+      const double side = pack(widest + (total_width - widest) * t / kTrials, size_c, order, trial);
+      if (side < best_side * (1 - 1e-9)) {
+        best_side = side;
+        best = trial;
+        lo = lo_c;
+        size = size_c;
+        turn = turn_c;
+      }
+    }
+  }
+  // The skyline grows from the top of the atlas (v = 1, an image's first rows) down; islands
+  // keep their orientation.
+  const double scale = (1 - 2 * kMargin) / best_side;
+  UvLayout layout;
+  std::vector<int> offset(islands.size());
+  Eigen::Index count = 0;
+  for (size_t i = 0; i < islands.size(); ++i) {
+    offset[i] = static_cast<int>(count);
+    count += static_cast<Eigen::Index>(islands[i].uv.size());
+  }
+  layout.coordinates.resize(count, 2);
+  for (size_t i = 0; i < islands.size(); ++i)
+    for (size_t k = 0; k < islands[i].uv.size(); ++k) {
+      const Eigen::Vector2d p = turned(islands[i].uv[k], turn[i]) - lo[i];  // in [0, size]
+      const Eigen::Index row = offset[i] + static_cast<Eigen::Index>(k);
+      layout.coordinates(row, 0) = std::clamp(kMargin + scale * (best[i].x() + p.x()), 0.0, 1.0);
+      layout.coordinates(row, 1) = std::clamp(1 - kMargin - scale * (best[i].y() + size[i].y() - p.y()), 0.0, 1.0);
+    }
+  layout.faces.resize(static_cast<Eigen::Index>(B.faces.size()), 3);
+  for (size_t f = 0; f < B.faces.size(); ++f) {
+    const auto [i, at] = face_at[f];
+    const auto& c = islands[i].corners[at];
+    for (int k = 0; k < 3; ++k) layout.faces(static_cast<Eigen::Index>(f), k) = offset[i] + c[static_cast<size_t>(k)];
+  }
+  return layout;
 }
 
 Vertices generate(const Dimensions& dims, Sex sex) {

@@ -226,6 +226,11 @@ BodyModel model_from_population(GeneratedPopulation& pop, Sex sex, const Populat
   d.skin_weights = topo.skin_weights;
   d.landmarks = topo.landmarks;
   d.measurements = measurement_definitions();
+  {
+    UvLayout uv = uv_layout(d.template_vertices);  // unwrapped from this model's mean body
+    d.uv_coordinates = std::move(uv.coordinates);
+    d.uv_faces = std::move(uv.faces);
+  }
 
   // weight = a·volume + b on the subjects' real weights (paper §3.4.2, here on ANSUR II).
   std::vector<double> weights(static_cast<size_t>(n));

@@ -23,7 +23,7 @@ says() {
 }
 
 expect 0 "top-level help" "$CALIPER" --help
-for sub in avatar render measure isak "model info" "model list" "model build" "map fit"; do
+for sub in avatar render measure isak "model info" "model list" "model build" "model uv-atlas" "map fit"; do
   # shellcheck disable=SC2086
   expect 0 "help of $sub" "$CALIPER" $sub --help
 done
@@ -109,8 +109,11 @@ expect 0 "report is JSON with the documented fields" node -e '
     r.measurements.chest_circumference && !("requested_cm" in r.measurements.chest_circumference);
   process.exit(ok ? 0 : 1);' "$TMP/r.json"
 expect 0 "glb passes the Khronos validator" node "$SRC/tools/validate-gltf.mjs" "$TMP/a.glb"
+expect 0 "glb has texture coordinates" grep -qa TEXCOORD_0 "$TMP/a.glb"
 expect 0 "obj export" "$CALIPER" avatar --sex male --height 180 --weight 85 -o "$TMP/a.obj" -q
 expect 0 "measure the exported OBJ" "$CALIPER" measure --mesh "$TMP/a.obj" --sex male --json
+expect 0 "obj has texture coordinates" grep -q '^vt ' "$TMP/a.obj"
+expect 0 "obj faces name their texture coordinates" grep -qE '^f [0-9]+/[0-9]+/[0-9]+ ' "$TMP/a.obj"
 expect 0 "the paper's R2 by name" "$CALIPER" avatar --sex male --height 180 --weight 85 --regressor r2 -o "$TMP/b.glb" --report "$TMP/b.json" -q
 expect 0 "R2 was used" grep -q '"regressor": "R2"' "$TMP/b.json"
 expect 0 "BMI 40 by default" "$CALIPER" avatar --sex female --height 150 --weight 90 -o "$TMP/heavy.glb"
@@ -132,6 +135,12 @@ node -e 'const r = JSON.parse(require("fs").readFileSync(process.argv[1])); if (
 expect 2 "model creases --every 0" "$CALIPER" model creases --ansur "$TMP" --every 0
 expect 0 "model list" "$CALIPER" model list
 says "mannequin-female" "model list shows the built-in body"
+expect 0 "uv atlas" "$CALIPER" model uv-atlas mannequin --sex female --size 256 -o "$TMP/atlas.png"
+says "UVs for" "uv atlas says what it drew"
+expect 0 "uv atlas is a PNG" bash -c "head -c 8 '$TMP/atlas.png' | od -An -tx1 | grep -q '89 50 4e 47 0d 0a 1a 0a'"
+expect 3 "uv atlas size out of range" "$CALIPER" model uv-atlas mannequin --size 8 -o "$TMP/atlas.png"
+expect 2 "uv atlas needs an output" "$CALIPER" model uv-atlas mannequin
+expect 0 "render with a checker texture through the UVs" "$CALIPER" render --sex female --height 165 --weight 60 --uv-checker --views front --image-width 64 --image-height 96 -o "$TMP/checker.png"
 expect 0 "isak mean" "$CALIPER" isak 170 171
 says "mean_of_two" "ISAK rule is named"
 says "170.500" "ISAK mean value"

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #ifdef CALIPER_HAVE_ASSIMP
 #include <assimp/Importer.hpp>
@@ -188,7 +189,18 @@ TEST_P(BuiltinModel, GlbReadsBackInAssimpWithTheSameCounts) {
   ASSERT_NE(scene, nullptr) << importer.GetErrorString();
   ASSERT_EQ(scene->mNumMeshes, 1u);
   const aiMesh* mesh = scene->mMeshes[0];
-  EXPECT_EQ(static_cast<int>(mesh->mNumVertices), m->vertex_count());
+  // One vertex per (vertex, UV) pair the faces use: the model's, plus copies along UV seams.
+  std::set<std::pair<int, int>> pairs;
+  for (Eigen::Index f = 0; f < m->faces().rows(); ++f)
+    for (int c = 0; c < 3; ++c) pairs.insert({m->faces()(f, c), m->data().uv_faces(f, c)});
+  ASSERT_TRUE(m->has_uvs());
+  EXPECT_EQ(static_cast<int>(mesh->mNumVertices), static_cast<int>(pairs.size()));
+  EXPECT_GT(static_cast<int>(mesh->mNumVertices), m->vertex_count());
+  EXPECT_LT(static_cast<int>(mesh->mNumVertices), m->vertex_count() * 11 / 10);
+  EXPECT_TRUE(mesh->HasTextureCoords(0));
+  // Positions are the unsplit ones: the model's vertices first, in order.
+  for (int v = 0; v < m->vertex_count(); v += 97)
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(mesh->mVertices[v][c], rest(v, c), 1e-6);
   EXPECT_EQ(static_cast<int>(mesh->mNumFaces), m->face_count());
   EXPECT_EQ(static_cast<int>(mesh->mNumBones), m->joint_count());
   // Every vertex's weights sum to 1 across the bones.

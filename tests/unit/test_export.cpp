@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "caliper/body/body_model.h"
+#include "caliper/body/mesh.h"
 #include "caliper/errors.h"
 #include "caliper/export/gltf.h"
 
@@ -133,7 +134,7 @@ struct Glb {
     const json& a = doc["accessors"][accessor];
     const json& view = doc["bufferViews"][a["bufferView"].get<int>()];
     const int ct = a["componentType"];
-    static const std::map<std::string, int> comps = {{"SCALAR", 1}, {"VEC3", 3}, {"VEC4", 4}, {"MAT4", 16}};
+    static const std::map<std::string, int> comps = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT4", 16}};
     const size_t n = a["count"].get<size_t>() * static_cast<size_t>(comps.at(a["type"]));
     const size_t size = ct == 5126 || ct == 5125 ? 4 : ct == 5123 ? 2 : 1;
     EXPECT_FALSE(view.contains("byteStride"));
@@ -651,5 +652,171 @@ TEST(Obj, ErrorsNameTheLine) {
   }
   EXPECT_EQ(catch_error([&] { caliper::read_obj((dir / "missing.obj").string()); }).kind(), ErrorKind::Io);
   EXPECT_EQ(catch_error([&] { caliper::read_obj(dir.string()); }).kind(), ErrorKind::Io);
+  fs::remove_all(dir);
+}
+
+// ---- texture coordinates -----------------------------------------------------------------------
+
+namespace {
+
+// The tube with a UV layout: its side cut open along column 0 (ring r, column k at
+// u = 0.1·(4 − k), v = 0.1 + 0.15·r; column 4 is column 0 again) and each cap its own island,
+// the ring's corners around the centre. Side: 6 rings × 5 UVs; caps: 5 UVs each.
+// Vertices with more than one UV: column 0 of every ring (2 side UVs: 6 copies) and the corners
+// of rings 0 and 5 (a side UV and a cap UV: 8 copies), so the glb has 26 + 6 + 8 = 40 vertices.
+constexpr int kSplitVertices = kVertices + kRings + 8;
+
+BodyModelData tube_with_uvs() {
+  BodyModelData d = tube_data();
+  const Faces& f = d.faces;
+  std::vector<std::array<double, 2>> uv;
+  for (int r = 0; r < kRings; ++r)
+    for (int k = 0; k <= 4; ++k) uv.push_back({0.1 * (4 - k), 0.1 + 0.15 * r});
+  const double corner[4][2] = {{0.1, 0.05}, {-0.1, 0.05}, {-0.1, -0.05}, {0.1, -0.05}};  // the ring's x, z halved
+  const int bottom = static_cast<int>(uv.size());
+  uv.push_back({0.75, 0.2});
+  for (auto& c : corner) uv.push_back({0.75 + c[0], 0.2 + c[1]});
+  const int top = static_cast<int>(uv.size());
+  uv.push_back({0.75, 0.6});
+  for (auto& c : corner) uv.push_back({0.75 + c[0], 0.6 - c[1]});  // seen from above: z points down
+  d.uv_coordinates.resize(static_cast<Eigen::Index>(uv.size()), 2);
+  for (size_t i = 0; i < uv.size(); ++i) d.uv_coordinates.row(static_cast<Eigen::Index>(i)) << uv[i][0], uv[i][1];
+  d.uv_faces.resize(f.rows(), 3);
+  for (Eigen::Index i = 0; i < f.rows(); ++i) {
+    const bool bottom_cap = f(i, 0) == 0, top_cap = f(i, 0) == kVertices - 1;
+    int column[3];
+    for (int c = 0; c < 3; ++c) column[c] = (f(i, c) - 1) % 4;
+    const bool wraps = std::max({column[0], column[1], column[2]}) == 3;
+    for (int c = 0; c < 3; ++c) {
+      const int v = f(i, c);
+      if (bottom_cap) d.uv_faces(i, c) = v == 0 ? bottom : bottom + 1 + column[c];
+      else if (top_cap) d.uv_faces(i, c) = v == kVertices - 1 ? top : top + 1 + column[c];
+      else d.uv_faces(i, c) = (v - 1) / 4 * 5 + (column[c] == 0 && wraps ? 4 : column[c]);
+    }
+  }
+  return d;
+}
+
+const BodyModel& textured_tube() {
+  static const BodyModel model(tube_with_uvs());
+  return model;
+}
+
+}  // namespace
+
+TEST(ExportFixture, TexturedTubeLayoutIsValid) {
+  const auto& d = textured_tube().data();
+  EXPECT_GT(caliper::uv_signed_areas(d.uv_coordinates, d.uv_faces).minCoeff(), 0.0);  // counter-clockwise
+  EXPECT_TRUE(caliper::uv_overlaps(d.uv_coordinates, d.uv_faces).empty());
+}
+
+TEST(GlbTexcoords, SplitOnlyAtSeamsWithTheUnsplitPositionsNormalsAndSkin) {
+  const Vertices rest = textured_tube().rest_vertices(Eigen::Vector2d(0.5, 1.0));
+  caliper::GlbOptions options;
+  for (int v = 0; v < kVertices; ++v) options.extra_vertex_scalar.push_back(0.001f * v);
+  const Glb g = parse_glb(caliper::write_glb(textured_tube(), rest, options));
+  const Glb plain = parse_glb(caliper::write_glb(tube(), rest, options));
+  ASSERT_GE(g.attribute("TEXCOORD_0"), 0);
+  EXPECT_EQ(plain.attribute("TEXCOORD_0"), -1);  // no layout, no texture coordinates
+  const std::vector<float> pos = g.read_floats(g.attribute("POSITION"));
+  const std::vector<float> nor = g.read_floats(g.attribute("NORMAL"));
+  const std::vector<float> tex = g.read_floats(g.attribute("TEXCOORD_0"));
+  const std::vector<double> joints = g.read(g.attribute("JOINTS_0")), weights = g.read(g.attribute("WEIGHTS_0"));
+  const std::vector<float> extra = g.read_floats(g.attribute("_UNCERTAINTY"));
+  const std::vector<float> plain_nor = plain.read_floats(plain.attribute("NORMAL"));
+  const std::vector<double> plain_joints = plain.read(plain.attribute("JOINTS_0")), plain_weights = plain.read(plain.attribute("WEIGHTS_0"));
+  ASSERT_EQ(pos.size(), 3u * kSplitVertices);
+  ASSERT_EQ(tex.size(), 2u * kSplitVertices);
+  ASSERT_EQ(extra.size(), static_cast<size_t>(kSplitVertices));
+  const std::vector<double> idx = g.read(g.doc["meshes"][0]["primitives"][0]["indices"].get<int>());
+  const caliper::Faces& faces = textured_tube().faces();
+  const auto& uv = textured_tube().data().uv_coordinates;
+  const auto& uv_faces = textured_tube().data().uv_faces;
+  ASSERT_EQ(idx.size(), static_cast<size_t>(faces.size()));
+  std::vector<int> source(kSplitVertices, -1);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int out = static_cast<int>(idx[static_cast<size_t>(3 * f + c)]), v = faces(f, c);
+      // The first N vertices are the model's own; copies come after.
+      if (out < kVertices) {
+        EXPECT_EQ(out, v);
+      }
+      source[static_cast<size_t>(out)] = v;
+      // glTF's v runs down from the top-left: (u, 1 − v).
+      EXPECT_FLOAT_EQ(tex[2 * out], static_cast<float>(uv(uv_faces(f, c), 0)));
+      EXPECT_FLOAT_EQ(tex[2 * out + 1], static_cast<float>(1.0 - uv(uv_faces(f, c), 1)));
+    }
+  for (int out = 0; out < kSplitVertices; ++out) {
+    const int v = source[static_cast<size_t>(out)];
+    ASSERT_GE(v, 0) << "vertex " << out << " unused";
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(pos[3 * out + c], static_cast<float>(rest(v, c))) << out;  // the unsplit position
+      EXPECT_EQ(nor[3 * out + c], plain_nor[3 * v + c]) << out;            // the unsplit mesh's normal
+    }
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_EQ(joints[4 * out + k], plain_joints[4 * v + k]);
+      EXPECT_EQ(weights[4 * out + k], plain_weights[4 * v + k]);
+    }
+    EXPECT_EQ(extra[static_cast<size_t>(out)], options.extra_vertex_scalar[static_cast<size_t>(v)]);
+  }
+  // Only seam vertices were copied: column 0 of every ring and the corners of the end rings.
+  for (int out = kVertices; out < kSplitVertices; ++out) {
+    const int v = source[static_cast<size_t>(out)];
+    const int ring = (v - 1) / 4, column = (v - 1) % 4;
+    EXPECT_TRUE(column == 0 || ring == 0 || ring == kRings - 1) << "vertex " << v;
+  }
+  EXPECT_EQ(g.doc["accessors"][g.attribute("TEXCOORD_0")]["type"], "VEC2");
+}
+
+TEST(GlbTexcoords, ValidatorAndAssimpAcceptIt) {
+  const fs::path dir = temp_dir();
+  caliper::GlbOptions options;
+  for (int v = 0; v < kVertices; ++v) options.extra_vertex_scalar.push_back(0.01f);
+  const Vertices rest = textured_tube().rest_vertices(Eigen::Vector2d(1.0, -1.0));
+  caliper::save_glb((dir / "tube-uv.glb").string(), textured_tube(), rest, options);
+  const json s = khronos_validate(dir / "tube-uv.glb");
+  EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
+  EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
+  EXPECT_EQ(s["info"].value("totalVertexCount", 0), kSplitVertices) << s.dump(1);
+#ifdef CALIPER_HAVE_ASSIMP
+  const std::string bytes = caliper::write_glb(textured_tube(), rest, options);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_ValidateDataStructure, "glb");
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  const aiMesh* mesh = scene->mMeshes[0];
+  EXPECT_EQ(mesh->mNumVertices, static_cast<unsigned>(kSplitVertices));
+  ASSERT_TRUE(mesh->HasTextureCoords(0));
+  // Assimp flips glTF's v back to OBJ's convention (v up) by default.
+  const auto& uv = textured_tube().data().uv_coordinates;
+  const auto& uv_faces = textured_tube().data().uv_faces;
+  for (unsigned f = 0; f < mesh->mNumFaces; ++f)
+    for (unsigned c = 0; c < 3; ++c) {
+      const aiVector3D t = mesh->mTextureCoords[0][mesh->mFaces[f].mIndices[c]];
+      EXPECT_NEAR(t.x, uv(uv_faces(f, c), 0), 1e-6);
+      EXPECT_NEAR(t.y, uv(uv_faces(f, c), 1), 1e-6);
+    }
+#endif
+  fs::remove_all(dir);
+}
+
+TEST(ObjTexcoords, WrittenAndReadBack) {
+  const fs::path dir = temp_dir();
+  const Vertices rest = textured_tube().rest_vertices(Eigen::Vector2d(0.25, 0.5));
+  const auto& d = textured_tube().data();
+  const std::string text = caliper::write_obj(rest, d.faces, d.uv_coordinates, d.uv_faces, "textured tube");
+  EXPECT_NE(text.find("\nvt 0.4 0.1\n"), std::string::npos) << text;  // ring 0, column 0
+  // Face 4 is the first side face: vertices 1, 5, 6 with UVs 0, 5, 6 (1-based: +1).
+  EXPECT_NE(text.find("\nf 2/1/2 6/6/6 7/7/7\n"), std::string::npos) << text;
+  write_text(dir / "tube-uv.obj", text);
+  const caliper::TexturedMesh back = caliper::read_obj_textured((dir / "tube-uv.obj").string());
+  EXPECT_EQ(back.mesh.vertices, rest);
+  EXPECT_EQ(back.mesh.faces, d.faces);
+  EXPECT_EQ(back.uv_coordinates, d.uv_coordinates);  // shortest round-trip decimals: exact
+  EXPECT_EQ(back.uv_faces, d.uv_faces);
+  // Without UVs: no vt lines, `v//vn` corners, and nothing read back.
+  write_text(dir / "tube.obj", caliper::write_obj(rest, d.faces, "plain"));
+  EXPECT_EQ(caliper::read_obj_textured((dir / "tube.obj").string()).uv_faces.rows(), 0);
+  // Mismatched UV faces are refused.
+  EXPECT_THROW(caliper::write_obj(rest, d.faces, d.uv_coordinates, caliper::Faces(d.uv_faces.topRows(3))), Error);
   fs::remove_all(dir);
 }

@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "caliper/caliper.h"
@@ -226,6 +229,45 @@ TEST(MakeHumanAssets, BaseMeshIsClosedManifoldAndInMetres) {
   for (int v = 0; v < kBodyVertexCount; ++v) ASSERT_EQ(m.mirror[static_cast<size_t>(m.mirror[static_cast<size_t>(v)])], v);
 }
 
+TEST(MakeHumanAssets, BaseMeshTextureCoordinatesFollowTheFaces) {
+  REQUIRE_ASSETS();
+  const BaseMesh m = read_base_mesh(assets_dir());
+  ASSERT_EQ(m.body_uv_faces.rows(), m.body_faces.rows());
+  ASSERT_GT(m.body_uv.rows(), 0);
+  EXPECT_GE(m.body_uv.minCoeff(), 0.0);
+  EXPECT_LE(m.body_uv.maxCoeff(), 1.0);
+  EXPECT_EQ(m.body_uv_faces.maxCoeff(), m.body_uv.rows() - 1);  // only the UVs the body uses
+  // Independently: the file's first face is a body quad `f a/ta b/tb c/tc d/td`; its first
+  // triangle (a, b, c) must carry ta, tb, tc (corners swapped together if the faces were).
+  std::ifstream in(assets_dir() + "/3dobjs/base.obj");
+  std::vector<std::array<double, 2>> vt;
+  std::vector<std::pair<int, int>> quad;
+  for (std::string line; std::getline(in, line) && quad.empty();) {
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    if (key == "vt") {
+      std::array<double, 2> t{};
+      ls >> t[0] >> t[1];
+      vt.push_back(t);
+    } else if (key == "f") {
+      for (std::string corner; ls >> corner;) {
+        const size_t slash = corner.find('/');
+        quad.push_back({std::stoi(corner.substr(0, slash)) - 1, std::stoi(corner.substr(slash + 1)) - 1});
+      }
+    }
+  }
+  ASSERT_GE(quad.size(), 3u);
+  ASSERT_LT(quad[0].first, kBodyVertexCount);
+  for (int c = 0; c < 3; ++c) {
+    const int v = m.body_faces(0, c);
+    const auto it = std::find_if(quad.begin(), quad.begin() + 3, [&](const auto& q) { return q.first == v; });
+    ASSERT_NE(it, quad.begin() + 3) << "vertex " << v;
+    EXPECT_EQ(m.body_uv(m.body_uv_faces(0, c), 0), vt[static_cast<size_t>(it->second)][0]);
+    EXPECT_EQ(m.body_uv(m.body_uv_faces(0, c), 1), vt[static_cast<size_t>(it->second)][1]);
+  }
+}
+
 TEST(MakeHumanAssets, MacroBodiesMatchTheReferenceNumbersAndTheTruncatedTargetIsNamed) {
   REQUIRE_ASSETS();
   const Assets a = load_assets(assets_dir());
@@ -365,6 +407,10 @@ TEST(MakeHumanBuild, SmallPopulationGivesAModelAvatarsCanUse) {
   const BodyModel back = load_model(dir / "makehuman-female.npz", Sex::Female);
   EXPECT_EQ(back.vertex_count(), model->vertex_count());
   EXPECT_EQ(back.data().landmarks, model->data().landmarks);
+  // MakeHuman's own UV layout travels with the model.
+  ASSERT_TRUE(model->has_uvs());
+  EXPECT_EQ(back.data().uv_faces, model->data().uv_faces);
+  EXPECT_EQ(back.data().uv_coordinates, model->data().uv_coordinates);
 }
 
 }  // namespace

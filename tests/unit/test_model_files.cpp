@@ -349,3 +349,97 @@ TEST(LoadModel, ByPathAndByNameInTheModelsFolder) {
     EXPECT_NE(std::string(e.what()).find("v_template"), std::string::npos) << e.what();
   }
 }
+
+// ---- the optional UV layout -------------------------------------------------------------------
+
+namespace {
+
+// The octahedron with a UV layout: 8 faces, each its own triangle of 3 UVs (inexact values).
+BodyModelData octahedron_with_uvs() {
+  BodyModelData d = octahedron_data();
+  d.uv_coordinates.resize(24, 2);
+  for (int i = 0; i < 24; ++i) d.uv_coordinates.row(i) << (i % 6) / 7.0 + 0.01 * (i / 6), (i / 6) / 4.0 + 0.1 * (i % 2);
+  d.uv_faces.resize(8, 3);
+  for (int f = 0; f < 8; ++f) d.uv_faces.row(f) << 3 * f + 2, 3 * f, 3 * f + 1;
+  return d;
+}
+
+}  // namespace
+
+TEST(NativeModelUvs, RoundTripIsExact) {
+  TempDir dir;
+  const BodyModel original(octahedron_with_uvs());
+  save_model(original, dir / "octa-uv.npz");
+  const auto arrays = npz::read_npz(dir / "octa-uv.npz");
+  EXPECT_EQ(arrays.at("uv_coordinates").dtype, "<f8");
+  EXPECT_EQ(arrays.at("uv_coordinates").shape, (std::vector<std::int64_t>{24, 2}));
+  EXPECT_EQ(arrays.at("uv_faces").dtype, "<i8");
+  EXPECT_EQ(arrays.at("uv_faces").shape, (std::vector<std::int64_t>{8, 3}));
+  const BodyModel loaded = load_native_model(dir / "octa-uv.npz");
+  ASSERT_TRUE(loaded.has_uvs());
+  const auto& a = original.data().uv_coordinates;
+  const auto& b = loaded.data().uv_coordinates;
+  ASSERT_EQ(a.rows(), b.rows());
+  EXPECT_TRUE(same_bits(a.data(), b.data(), static_cast<std::size_t>(a.size())));
+  EXPECT_EQ(loaded.data().uv_faces, original.data().uv_faces);
+  // Saving the loaded model gives the same bytes.
+  save_model(loaded, dir / "again.npz");
+  EXPECT_EQ(read_file(dir / "octa-uv.npz"), read_file(dir / "again.npz"));
+}
+
+TEST(NativeModelUvs, FilesWithoutThemStillLoad) {
+  TempDir dir;
+  save_model(BodyModel(octahedron_data()), dir / "octa.npz");
+  const auto arrays = npz::read_npz(dir / "octa.npz");
+  EXPECT_EQ(arrays.count("uv_coordinates"), 0u);  // nothing written for a model without UVs
+  EXPECT_EQ(arrays.count("uv_faces"), 0u);
+  EXPECT_FALSE(load_native_model(dir / "octa.npz").has_uvs());
+}
+
+TEST(NativeModelUvs, BrokenLayoutsAreRefusedNamingTheArray) {
+  TempDir dir;
+  save_model(BodyModel(octahedron_with_uvs()), dir / "octa-uv.npz");
+  const auto good = npz::read_npz(dir / "octa-uv.npz");
+  const auto broken = [&](const std::function<void(std::map<std::string, std::string>&)>& edit) {
+    auto entries = reencode(good);
+    edit(entries);
+    npz::write_npz(dir / "broken.npz", entries);
+    return load_error(dir / "broken.npz");
+  };
+  npz::write_npz(dir / "reencoded.npz", reencode(good));
+  EXPECT_TRUE(load_native_model(dir / "reencoded.npz").has_uvs());
+
+  auto expect_format = [](const Error& e, const std::string& field, const std::string& words) {
+    EXPECT_EQ(e.kind(), ErrorKind::Format) << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  };
+  // One without the other.
+  expect_format(broken([](auto& m) { m.erase("uv_faces"); }), "uv_faces", "missing");
+  expect_format(broken([](auto& m) { m.erase("uv_coordinates"); }), "uv_coordinates", "missing");
+  // uv_faces with a row too few or too many (the face count is 8).
+  auto uf = good.at("uv_faces").numbers;
+  expect_format(broken([&](auto& m) { m["uv_faces"] = npz::write_npy_f64(std::vector<double>(uf.begin(), uf.end() - 3), {7, 3}); }),
+                "uv_faces", "shape");
+  auto longer = uf;
+  longer.insert(longer.end(), {0, 1, 2});
+  expect_format(broken([&](auto& m) { m["uv_faces"] = npz::write_npy_f64(longer, {9, 3}); }), "uv_faces", "shape");
+  // An index out of range, negative, or not an integer.
+  auto bad = uf;
+  bad[4] = 24;
+  expect_format(broken([&](auto& m) { m["uv_faces"] = npz::write_npy_f64(bad, {8, 3}); }), "uv_faces", "[0, 24)");
+  bad[4] = -1;
+  expect_format(broken([&](auto& m) { m["uv_faces"] = npz::write_npy_f64(bad, {8, 3}); }), "uv_faces", "not an integer");
+  bad[4] = 1.5;
+  expect_format(broken([&](auto& m) { m["uv_faces"] = npz::write_npy_f64(bad, {8, 3}); }), "uv_faces", "not an integer");
+  // Coordinates outside [0, 1], NaN, the wrong shape, or more rows than face corners.
+  auto uv = good.at("uv_coordinates").numbers;
+  uv[7] = 1.25;
+  expect_format(broken([&](auto& m) { m["uv_coordinates"] = npz::write_npy_f64(uv, {24, 2}); }), "uv_coordinates", "outside");
+  uv[7] = std::nan("");
+  expect_format(broken([&](auto& m) { m["uv_coordinates"] = npz::write_npy_f64(uv, {24, 2}); }), "uv_coordinates", "NaN");
+  expect_format(broken([&](auto& m) { m["uv_coordinates"] = npz::write_npy_f64(std::vector<double>(72, 0.5), {24, 3}); }),
+                "uv_coordinates", "shape");
+  expect_format(broken([&](auto& m) { m["uv_coordinates"] = npz::write_npy_f64(std::vector<double>(50, 0.5), {25, 2}); }),
+                "uv_coordinates", "rows");
+}

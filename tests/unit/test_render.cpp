@@ -15,6 +15,7 @@
 
 #include "caliper/errors.h"
 #include "caliper/export/render.h"
+#include "caliper/export/uv_atlas.h"
 
 namespace caliper {
 namespace {
@@ -188,6 +189,34 @@ TEST(Render, DefaultBodyColourIsWarmOnACoolGreyBackground) {
   EXPECT_GE(corner[2], corner[0]);  // background is neutral to slightly cool
 }
 
+TEST(Render, CheckerTextureFollowsTheUvs) {
+  // The box's UVs project it along z: the front face fills one checker square, light (warm) or
+  // dark (blue) depending on which square the UVs put it in.
+  const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
+  RenderOptions o;
+  o.width = 60;
+  o.height = 90;
+  o.uv_faces = cube.faces;
+  const Eigen::Vector3d lo = cube.vertices.colwise().minCoeff(), hi = cube.vertices.colwise().maxCoeff();
+  auto project = [&](double u0) {
+    UvCoordinates uv(cube.vertices.rows(), 2);
+    for (Eigen::Index i = 0; i < uv.rows(); ++i)
+      uv.row(i) << u0 + 0.4 * (cube.vertices(i, 0) - lo.x()) / (hi.x() - lo.x()),
+          0.4 * (cube.vertices(i, 1) - lo.y()) / (hi.y() - lo.y());
+    return uv;
+  };
+  o.checker_squares = 2;
+  o.uv_coordinates = project(0.05);  // square (0, 0): light
+  const Image light = decode(render_png(cube.vertices, cube.faces, o));
+  o.uv_coordinates = project(0.55);  // square (1, 0): dark
+  const Image dark = decode(render_png(cube.vertices, cube.faces, o));
+  EXPECT_GT(light.at(30, 45)[0], light.at(30, 45)[2]);
+  EXPECT_GT(dark.at(30, 45)[2], dark.at(30, 45)[0]);
+  EXPECT_GT(light.at(30, 45)[0], dark.at(30, 45)[0] + 60);
+  o.uv_faces = Faces(cube.faces.topRows(3));
+  EXPECT_THROW(render_png(cube.vertices, cube.faces, o), Error);
+}
+
 int red_pixels(const Image& img) {
   int n = 0;
   for (int y = 0; y < img.height; ++y)
@@ -335,6 +364,36 @@ TEST(Render, BadInputThrowsNamingTheField) {
 
   EXPECT_EQ(kind_of([&] { render_views_png(cube.vertices, cube.faces, {}); }, &field), ErrorKind::InvalidArgument);
   EXPECT_EQ(field, "views");
+}
+
+TEST(UvAtlas, DrawsEachTriangleWhereItsUvsAreAndFlippedOnesRed) {
+  UvCoordinates uv(6, 2);
+  uv << 0.05, 0.05, 0.45, 0.05, 0.05, 0.45,  // counter-clockwise, lower left
+      0.55, 0.55, 0.55, 0.95, 0.95, 0.55;    // clockwise (flipped), upper right
+  Faces f(2, 3);
+  f << 0, 1, 2, 3, 4, 5;
+  UvAtlasOptions o;
+  o.size = 100;
+  const Image img = decode(render_uv_atlas_png(uv, f, o));
+  ASSERT_EQ(img.width, 100);
+  ASSERT_EQ(img.height, 100);
+  auto rgb = [&](int x, int y) { return std::array<int, 3>{img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]}; };
+  // Pixel (x, y) = (u·size, (1 − v)·size): v = 1 is the image's top row.
+  EXPECT_EQ(rgb(15, 85), (std::array<int, 3>{222, 222, 222}));  // inside the lower-left one
+  EXPECT_EQ(rgb(65, 35), (std::array<int, 3>{240, 120, 120}));  // inside the flipped one
+  EXPECT_EQ(rgb(90, 90), (std::array<int, 3>{255, 255, 255}));  // outside both
+  EXPECT_EQ(rgb(15, 35), (std::array<int, 3>{255, 255, 255}));
+  EXPECT_EQ(rgb(25, 95), (std::array<int, 3>{60, 60, 70}));     // on the edge v = 0.05
+  // Bad input.
+  std::string field;
+  o.size = 8;
+  EXPECT_EQ(kind_of([&] { render_uv_atlas_png(uv, f, o); }, &field), ErrorKind::InvalidArgument);
+  EXPECT_EQ(field, "size");
+  o.size = 64;
+  Faces bad = f;
+  bad(1, 2) = 6;
+  EXPECT_EQ(kind_of([&] { render_uv_atlas_png(uv, bad, o); }, &field), ErrorKind::InvalidArgument);
+  EXPECT_EQ(field, "uv_faces");
 }
 
 }  // namespace

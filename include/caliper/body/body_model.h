@@ -45,6 +45,10 @@ struct BodyModelData {
   std::vector<MeasurementDefinition> measurements;                // what this model can measure
   WeightFromVolume weight_from_volume;
   std::map<std::string, std::string> metadata;                    // licence, source, version…
+  // Optional UV layout (texture coordinates) shared by every body of the model, OBJ-style: a
+  // vertex on a seam has several UVs, so UV corners index their own array. Both empty = none.
+  UvCoordinates uv_coordinates;  // U×2 in [0, 1], OBJ convention (v up; origin bottom-left)
+  Faces uv_faces;                // F×3 indices into uv_coordinates, same corner order as `faces`
 };
 
 class BodyModel {
@@ -60,6 +64,7 @@ class BodyModel {
   int joint_count() const { return static_cast<int>(data_.joint_names.size()); }
   int shape_count() const { return static_cast<int>(data_.shape_directions.cols()); }
   const Faces& faces() const { return data_.faces; }
+  bool has_uvs() const { return data_.uv_faces.rows() > 0; }
 
   // Landmark vertex index; throws Error(Unsupported) naming the landmark if the model lacks it.
   int landmark(const std::string& name) const;

@@ -9,6 +9,7 @@ namespace caliper {
 
 using Vertices = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;      // N×3, metres
 using Faces = Eigen::Matrix<std::int32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;   // F×3, counter-clockwise seen from outside
+using UvCoordinates = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;  // U×2 texture coordinates (u, v)
 
 struct Mesh {
   Vertices vertices;
@@ -35,5 +36,18 @@ MeshCheck check_mesh(const Faces& faces, std::int64_t vertex_count);
 // keeps it near-linear: ~20k faces take tens of milliseconds.
 std::vector<std::pair<std::int32_t, std::int32_t>> self_intersections(const Vertices& vertices, const Faces& faces,
                                                                       std::size_t max_pairs = 100);
+
+// Pairs of UV triangles whose interiors overlap (share a region of positive area), for a UV
+// layout `uv` (U×2) and its triangles `uv_faces` (F×3 indices into `uv`). Triangles that only
+// touch (a shared edge or vertex, or touching boundaries) do not count; overlaps thinner than
+// `tolerance` (in UV units) are ignored. Degenerate (zero-area) triangles never overlap. Stops after
+// `max_pairs`; pairs are (lower face index, higher). A uniform grid over the triangles' bounding
+// boxes keeps it near-linear.
+std::vector<std::pair<std::int32_t, std::int32_t>> uv_overlaps(const UvCoordinates& uv, const Faces& uv_faces,
+                                                               double tolerance = 1e-9, std::size_t max_pairs = 100);
+
+// Signed area of each UV triangle (F), positive when its corners run counter-clockwise in the
+// (u, v) plane with v up (OBJ's convention).
+Eigen::VectorXd uv_signed_areas(const UvCoordinates& uv, const Faces& uv_faces);
 
 }  // namespace caliper

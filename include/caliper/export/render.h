@@ -34,6 +34,12 @@ struct RenderOptions {
   std::vector<float> vertex_scalar;
   float scalar_min = 0.0f;
   float scalar_max = 0.0f;
+  // Optional UV layout (uv_coordinates U×2 and uv_faces, one row per face; both empty = none):
+  // the body is painted with a checker texture of `checker_squares` squares along each side of
+  // the unit UV square instead of body_rgb, to show a layout's seams and stretch.
+  UvCoordinates uv_coordinates;
+  Faces uv_faces;
+  int checker_squares = 40;
 };
 
 // PNG bytes (8-bit RGB) of `vertices` (N×3, metres) and `faces` (F×3, indices into vertices),

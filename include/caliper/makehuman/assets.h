@@ -34,6 +34,11 @@ Target read_target(const std::string& path, int vertex_count);
 struct BaseMesh {
   Vertices vertices;        // all hm08 vertices (body, helpers, joint cubes), metres, A-pose, as in the file
   Faces body_faces;         // triangles of the body only (quads split), outward, indices < kBodyVertexCount
+  // The body's texture coordinates from the file's `vt` lines (OBJ convention, v up), when every
+  // body face corner has one in [0, 1]; else both empty. body_uv_faces rows match body_faces
+  // (same split, same corner order); body_uv keeps only the UVs the body uses, in file order.
+  UvCoordinates body_uv;
+  Faces body_uv_faces;
   std::map<std::string, std::vector<int>> groups;  // vertex groups by name ("joint-l-elbow" → its 8 vertices)
   std::vector<int> mirror;  // mirror[v] = the vertex mirroring v across x = 0 (itself on the midline)
 };

@@ -37,6 +37,18 @@ struct Topology {  // shared by every generated body
 };
 const Topology& topology();  // built once (thread-safe static)
 
+// The topology's UV layout (texture coordinates), unwrapped from `rest` (N×3 rest vertices of
+// this topology, e.g. a model's mean body; metres). One atlas in [0, 1]², OBJ convention (v up),
+// islands that do not overlap: torso + neck + head cut down the back; each leg with the top of its
+// foot cut along the inner leg; each sole; each arm with its mitten hand cut under the arm; each
+// thumb. Right-side islands are the mirror images of the left's. Deterministic. Throws
+// Error(InvalidArgument) if `rest` does not have the topology's vertex count.
+struct UvLayout {
+  UvCoordinates coordinates;  // U×2
+  Faces faces;                // F×3 (topology().faces' rows), indices into coordinates
+};
+UvLayout uv_layout(const Vertices& rest);
+
 // Rest vertices N×3 in metres, T-pose, feet on y = 0, facing +Z. `sex` selects the female/male
 // form (bust, hip and shoulder shape); geometry is otherwise driven by the dimensions (all of
 // input_columns() must be present: use complete_dimensions). Throws Error(InvalidArgument),
