@@ -1,10 +1,24 @@
 // Small hand-built meshes and models with known answers, shared by the unit tests.
 #pragma once
+#include <gtest/gtest.h>
+
 #include <cmath>
 
 #include "caliper/caliper.h"
 
 namespace caliper::test {
+
+// The caliper::Error that f throws; a test failure (and an empty error) when it throws none.
+template <class F>
+Error catch_error(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no caliper::Error thrown";
+  return Error(ErrorKind::Unsupported, "none");
+}
 
 // Axis-aligned unit cube [0,1]³, 12 outward triangles: volume exactly 1.
 inline Mesh unit_cube() {

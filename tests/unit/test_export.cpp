@@ -18,6 +18,7 @@
 #include "caliper/body/mesh.h"
 #include "caliper/errors.h"
 #include "caliper/export/gltf.h"
+#include "fixtures.h"
 
 #ifdef CALIPER_HAVE_ASSIMP
 #include <assimp/Importer.hpp>
@@ -33,6 +34,8 @@ using caliper::ErrorKind;
 using caliper::Faces;
 using caliper::Vertices;
 using nlohmann::json;
+
+using caliper::test::catch_error;
 
 namespace {
 
@@ -193,17 +196,6 @@ fs::path temp_dir() {
 
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
-}
-
-template <class F>
-Error catch_error(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no caliper::Error thrown";
-  return Error(ErrorKind::Unsupported, "none");
 }
 
 }  // namespace

@@ -96,6 +96,15 @@ Error load_error(const std::string& path) {
   return Error(ErrorKind::Unsupported, "none");
 }
 
+// The error from loading `good`'s arrays re-encoded and changed by `edit`, written to dir/broken.npz.
+using ArrayEdit = std::function<void(std::map<std::string, std::string>&)>;
+Error load_edited_error(const TempDir& dir, const std::map<std::string, npz::Array>& good, const ArrayEdit& edit) {
+  auto entries = reencode(good);
+  edit(entries);
+  npz::write_npz(dir / "broken.npz", entries);
+  return load_error(dir / "broken.npz");
+}
+
 // Sets an environment variable for one scope.
 struct ScopedEnv {
   std::string name;
@@ -199,12 +208,7 @@ TEST(NativeModel, BrokenFilesGiveErrorsNamingTheArray) {
   TempDir dir;
   save_model(BodyModel(octahedron_data()), dir / "octa.npz");
   const auto good = npz::read_npz(dir / "octa.npz");
-  const auto broken = [&](const std::function<void(std::map<std::string, std::string>&)>& edit) {
-    auto entries = reencode(good);
-    edit(entries);
-    npz::write_npz(dir / "broken.npz", entries);
-    return load_error(dir / "broken.npz");
-  };
+  const auto broken = [&](const ArrayEdit& edit) { return load_edited_error(dir, good, edit); };
   // Re-encoded as-is it still loads: the edits below are what break it.
   npz::write_npz(dir / "reencoded.npz", reencode(good));
   EXPECT_EQ(load_native_model(dir / "reencoded.npz").vertex_count(), 6);
@@ -400,12 +404,7 @@ TEST(NativeModelUvs, BrokenLayoutsAreRefusedNamingTheArray) {
   TempDir dir;
   save_model(BodyModel(octahedron_with_uvs()), dir / "octa-uv.npz");
   const auto good = npz::read_npz(dir / "octa-uv.npz");
-  const auto broken = [&](const std::function<void(std::map<std::string, std::string>&)>& edit) {
-    auto entries = reencode(good);
-    edit(entries);
-    npz::write_npz(dir / "broken.npz", entries);
-    return load_error(dir / "broken.npz");
-  };
+  const auto broken = [&](const ArrayEdit& edit) { return load_edited_error(dir, good, edit); };
   npz::write_npz(dir / "reencoded.npz", reencode(good));
   EXPECT_TRUE(load_native_model(dir / "reencoded.npz").has_uvs());
 

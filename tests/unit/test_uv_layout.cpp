@@ -16,6 +16,8 @@
 
 using namespace caliper;
 
+using caliper::test::catch_error;
+
 namespace {
 
 UvCoordinates uvs(std::initializer_list<std::array<double, 2>> points) {
@@ -46,17 +48,6 @@ void grid(int n, UvCoordinates& uv, Faces& faces) {
       faces.row(2 * (y * n + x)) << a, b, d;
       faces.row(2 * (y * n + x) + 1) << a, d, c;
     }
-}
-
-template <class F>
-Error catch_error(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no caliper::Error thrown";
-  return Error(ErrorKind::Unsupported, "none");
 }
 
 }  // namespace
