@@ -56,13 +56,6 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r\n\"");
-  if (a == std::string::npos) return {};
-  const size_t b = s.find_last_not_of(" \t\r\n\"");
-  return s.substr(a, b - a + 1);
-}
-
 // Rounds to a decimal step (0.1, 1e-4…) so that the JSON shows 178.1, not 178.10000000000002:
 // dividing by the integer 1/step gives the double nearest the decimal, multiplying by step not.
 double round_to(double v, double step) {
@@ -233,174 +226,19 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
 // ---------------------------------------------------------------------------------------------
 // Measurement sets (import/export, JSON and CSV; docs/api.md "Measurement sets").
 
-struct MeasurementSet {
-  std::string sex;    // empty when the file does not say
-  std::string model;  // empty when the file does not say
-  std::string measured_by;  // "self" | "other" | empty (a capture session's export says)
-  std::map<std::string, double> edge;
-  std::vector<std::string> warnings;
-};
-
-// Converts a value in `unit` to the edge unit of `info` (cm or kg).
-double to_edge_unit(const MeasurementInfo& info, double value, const std::string& unit_text, const std::string& where) {
-  const std::string unit = lower(trim(unit_text));
-  const bool kg = info.unit == Unit::Kilogram;
-  if (unit.empty()) return value;
-  if (kg) {
-    if (unit == "kg") return value;
-    if (unit == "g") return value / 1000.0;
-    if (unit == "lb" || unit == "lbs") return value * 0.45359237;
-  } else {
-    if (unit == "cm") return value;
-    if (unit == "mm") return value / 10.0;
-    if (unit == "m") return value * 100.0;
-    if (unit == "in" || unit == "inch") return value * 2.54;
-  }
-  bad(where + ": unit '" + unit_text + "' does not fit " + info.name + " (use " + edge_unit(info) + ")", info.name);
-}
-
-void add_to_set(MeasurementSet& set, const std::string& name, double value, const std::string& unit, const std::string& where) {
-  const MeasurementInfo* info = find_measurement_info(name);
-  if (!info) bad(where + ": unknown measurement '" + name + "'", name);
-  if (set.edge.count(info->name)) bad(where + ": " + info->name + " is given twice", info->name);
-  const double v = to_edge_unit(*info, value, unit, where);
-  edge_to_si(*info, v);  // range check, naming the field
-  set.edge[info->name] = round_to(v, 1e-4);
-}
-
-// Who took a set's values: "self" or "other" (paper Table 2's two settings).
-std::string measurer(const ordered_json& value, const std::string& where) {
-  if (value.is_string() && (value == "self" || value == "other")) return value.get<std::string>();
-  bad(where + " must be \"self\" or \"other\"", "measured_by");
-}
-
-MeasurementSet parse_set_json(const std::string& text) {
-  const ordered_json j = parse_json_object(text, "the measurement set");
-  MeasurementSet set;
-  if (j.contains("sex") && j["sex"].is_string()) set.sex = to_string(parse_sex(j["sex"].get<std::string>()));
-  if (j.contains("model") && j["model"].is_string()) set.model = j["model"].get<std::string>();
-  if (j.contains("measured_by") && !j["measured_by"].is_null()) set.measured_by = measurer(j["measured_by"], "measured_by");
-  // Either {"measurements": {...}} (ours, and Caliper reports) or a flat {name: value} object.
-  const ordered_json& m = j.contains("measurements") ? j["measurements"] : j;
-  if (!m.is_object()) bad("measurements must be an object", "measurements");
-  for (const auto& [name, value] : m.items()) {
-    if (!j.contains("measurements") && (name == "sex" || name == "model" || name == "format" || name == "version" ||
-                                        name == "units" || name == "measured_by"))
-      continue;
-    if (value.is_number()) {
-      add_to_set(set, name, value.get<double>(), "", "measurements." + name);
-    } else if (value.is_object()) {
-      // A Caliper report's entry: take what was requested; achieved-only entries were not inputs.
-      for (const char* key : {"requested_cm", "requested_kg"})
-        if (value.contains(key) && value[key].is_number()) add_to_set(set, name, value[key].get<double>(), "", "measurements." + name);
-      if (!value.contains("requested_cm") && !value.contains("requested_kg") && !value.contains("achieved_cm") &&
-          !value.contains("achieved_kg"))
-        bad("measurements." + name + " must be a number (cm or kg)", name);
-    } else if (!value.is_null()) {
-      bad("measurements." + name + " must be a number (cm or kg)", name);
-    }
-  }
-  if (set.edge.empty()) bad("the measurement set has no measurements", "measurements");
-  return set;
-}
-
-std::vector<std::string> split_csv_line(const std::string& line) {
-  const char sep = line.find(',') != std::string::npos ? ',' : (line.find(';') != std::string::npos ? ';' : '\t');
-  std::vector<std::string> cells;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, sep)) cells.push_back(trim(cell));
-  if (!line.empty() && line.back() == sep) cells.push_back({});
-  return cells;
-}
-
-bool parse_number(const std::string& text, double& out) {
-  if (text.empty()) return false;
+// The library's reader (parse_measurement_set) is the only one: the CLI, capture and this API
+// read a set the same way. The set is the client's upload, so a malformed one is the client's
+// 400, not a broken installation file's 500; errors about the set as a whole name "measurements"
+// in the library, here the request "body".
+MeasurementSetFile read_set_body(const std::string& body) {
   try {
-    size_t used = 0;
-    out = std::stod(text, &used);
-    return used == text.size();
-  } catch (const std::exception&) {
-    return false;
+    return parse_measurement_set(body);
+  } catch (const Error& e) {
+    const std::string field = e.field() == "measurements" ? "body" : e.field();
+    if (e.kind() == ErrorKind::Format) bad(e.what(), field);
+    if (field != e.field()) throw Error(e.kind(), e.what(), field);
+    throw;
   }
-}
-
-// CSV: rows "measurement,value[,unit]" (',' ';' or tab), an optional header row, '#' comments,
-// and an optional "sex,female" row. Values without a unit are in cm or kg.
-MeasurementSet parse_set_csv(const std::string& text) {
-  MeasurementSet set;
-  std::stringstream ss(text);
-  std::string line;
-  int line_no = 0;
-  while (std::getline(ss, line)) {
-    ++line_no;
-    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line = line.substr(3);  // UTF-8 BOM
-    const std::string t = trim(line);
-    if (t.empty() || t[0] == '#') continue;
-    const std::vector<std::string> cells = split_csv_line(t);
-    const std::string where = "line " + std::to_string(line_no);
-    const std::string first = lower(cells[0]);
-    if (first == "measurement" || first == "name") continue;  // header
-    if (first == "sex") {
-      if (cells.size() < 2) bad(where + ": sex needs a value", "sex");
-      set.sex = to_string(parse_sex(lower(cells[1])));
-      continue;
-    }
-    if (first == "model") {
-      if (cells.size() >= 2) set.model = cells[1];
-      continue;
-    }
-    if (first == "measured_by") {
-      set.measured_by = measurer(cells.size() >= 2 ? ordered_json(lower(cells[1])) : ordered_json(nullptr), where + ": measured_by");
-      continue;
-    }
-    if (cells.size() < 2) bad(where + ": expected measurement,value[,unit]", "line " + std::to_string(line_no));
-    double v = 0;
-    if (!parse_number(cells[1], v)) {
-      const MeasurementInfo* info = find_measurement_info(cells[0]);
-      bad(where + ": the value of " + cells[0] + " is not a number ('" + cells[1] + "')", info ? info->name : cells[0]);
-    }
-    add_to_set(set, cells[0], v, cells.size() >= 3 ? cells[2] : "", where);
-  }
-  if (set.edge.empty()) bad("the measurement set has no measurements", "body");
-  return set;
-}
-
-ordered_json set_json(const MeasurementSet& set) {
-  ordered_json j;
-  j["format"] = "caliper-measurements";
-  j["version"] = 1;
-  j["sex"] = set.sex.empty() ? ordered_json(nullptr) : ordered_json(set.sex);
-  j["model"] = set.model.empty() ? ordered_json(nullptr) : ordered_json(set.model);
-  if (!set.measured_by.empty()) j["measured_by"] = set.measured_by;
-  j["units"] = "lengths in cm, weight in kg";
-  ordered_json m = ordered_json::object();
-  // Catalogue order (the paper's inputs first) reads better than alphabetical.
-  for (const auto& info : measurement_catalogue()) {
-    auto it = set.edge.find(info.name);
-    if (it != set.edge.end()) m[info.name] = it->second;
-  }
-  j["measurements"] = m;
-  if (!set.warnings.empty()) j["warnings"] = set.warnings;
-  return j;
-}
-
-std::string format_value(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << round_to(v, 1e-4);
-  return os.str();
-}
-
-std::string set_csv(const MeasurementSet& set) {
-  std::string out = "measurement,value,unit\n";
-  if (!set.sex.empty()) out += "sex," + set.sex + ",\n";
-  if (!set.measured_by.empty()) out += "measured_by," + set.measured_by + ",\n";
-  for (const auto& info : measurement_catalogue()) {
-    auto it = set.edge.find(info.name);
-    if (it != set.edge.end()) out += info.name + "," + format_value(it->second) + "," + edge_unit(info) + "\n";
-  }
-  return out;
 }
 
 std::string models_folder(const ApiOptions& options) {
@@ -663,11 +501,7 @@ struct Api::Impl {
   }
 
   ApiResponse import_set(const ApiRequest& req) const {
-    const std::string t = trim(req.body);
-    if (t.empty()) bad("the measurement set is empty", "body");
-    const bool json = lower(req.content_type).find("json") != std::string::npos || t[0] == '{';
-    MeasurementSet set = json ? parse_set_json(req.body) : parse_set_csv(req.body);
-    return json_response(set_json(set));
+    return json_response(ordered_json::parse(write_measurement_set_json(read_set_body(req.body))));
   }
 
   ApiResponse export_set(const ApiRequest& req) const {
@@ -678,19 +512,19 @@ struct Api::Impl {
     for (const auto& [key, value] : j.items())
       if (key != "sex" && key != "model" && key != "measurements" && key != "regressor")
         bad("unknown field '" + key + "' (expected sex, model, measurements)", key);
-    MeasurementSet set;
-    if (j.contains("sex") && !j["sex"].is_null()) set.sex = to_string(parse_sex(string_field(j, "sex", "female")));
-    set.model = string_field(j, "model", "");
+    MeasurementSetFile set;
+    if (j.contains("sex") && !j["sex"].is_null()) set.sex = parse_sex(string_field(j, "sex", "female"));
+    if (const std::string model = string_field(j, "model", ""); !model.empty()) set.model = model;
     if (!j.contains("measurements")) bad("measurements is required", "measurements");
     set.edge = parse_measurements(j["measurements"]);
     check_measurements(set.edge, true);  // a set is saved as typed; only the ranges apply
     ApiResponse out;
     if (format == "csv") {
       out.content_type = "text/csv; charset=utf-8";
-      out.body = set_csv(set);
+      out.body = write_measurement_set_csv(set);
       out.download_name = "caliper-measurements.csv";
     } else {
-      out.body = dump_json(set_json(set), 2) + "\n";
+      out.body = write_measurement_set_json(set);
       out.download_name = "caliper-measurements.json";
     }
     return out;

@@ -13,6 +13,7 @@
 #include "caliper/regress/regressor.h"
 #include "caliper/protocol/isak.h"
 #include "caliper/protocol/real_to_virtual.h"
+#include "caliper/capture/measurement_set.h"
 #include "caliper/avatar.h"
 #include "caliper/export/gltf.h"
 #include "caliper/export/report.h"

@@ -80,6 +80,21 @@ std::string measurer_of(const std::string& text, const std::string& where) {
   throw Error(ErrorKind::Format, where + ": measured_by must be self or other (got '" + text + "')", "measured_by");
 }
 
+// A Caliper report lists every measurement as {"requested_cm": …, "achieved_cm": …}: what was
+// requested was an input; an entry with only an achieved value was not, and is skipped.
+void add_report_entry(MeasurementSetFile& set, const std::string& name, const nlohmann::json& entry) {
+  bool report_entry = false;
+  for (const char* key : {"requested_cm", "requested_kg", "achieved_cm", "achieved_kg"}) {
+    if (!entry.contains(key)) continue;
+    report_entry = true;
+    const auto& v = entry[key];
+    if (std::string(key).rfind("requested", 0) != 0 || v.is_null()) continue;
+    if (!v.is_number()) throw Error(ErrorKind::Format, "measurements." + name + "." + key + " must be a number", name);
+    add(set, name, v.get<double>(), "", "measurements." + name);
+  }
+  if (!report_entry) throw Error(ErrorKind::Format, "measurements." + name + " must be a number (cm or kg)", name);
+}
+
 MeasurementSetFile parse_json(const std::string& text) {
   nlohmann::json j;
   try {
@@ -96,6 +111,7 @@ MeasurementSetFile parse_json(const std::string& text) {
                 "version");
   MeasurementSetFile set;
   if (j.contains("sex") && j["sex"].is_string()) set.sex = sex_of(j["sex"].get<std::string>(), "sex");
+  if (j.contains("model") && j["model"].is_string()) set.model = j["model"].get<std::string>();
   if (j.contains("measured_by") && !j["measured_by"].is_null()) {
     if (!j["measured_by"].is_string()) throw Error(ErrorKind::Format, "measured_by must be \"self\" or \"other\"", "measured_by");
     set.measured_by = measurer_of(j["measured_by"].get<std::string>(), "measured_by");
@@ -108,6 +124,10 @@ MeasurementSetFile parse_json(const std::string& text) {
                     name == "warnings" || name == "measured_by"))
       continue;
     if (value.is_null()) continue;
+    if (value.is_object()) {  // a Caliper report's entry
+      add_report_entry(set, name, value);
+      continue;
+    }
     if (!value.is_number()) throw Error(ErrorKind::Format, "measurements." + name + " must be a number (cm or kg)", name);
     add(set, name, value.get<double>(), "", "measurements." + name);
   }
@@ -131,7 +151,12 @@ MeasurementSetFile parse_csv(const std::string& text) {
     while (std::getline(ls, cell, sep)) cells.push_back(cell);
     const std::string where = "line " + std::to_string(line_no);
     const std::string first = lower_trim(cells[0]);
-    if (first == "measurement" || first == "name" || first == "model") continue;
+    if (first == "measurement" || first == "name") continue;
+    if (first == "model") {
+      const size_t a = cells.size() >= 2 ? cells[1].find_first_not_of(" \t\r\"") : std::string::npos;
+      if (a != std::string::npos) set.model = cells[1].substr(a, cells[1].find_last_not_of(" \t\r\"") - a + 1);
+      continue;
+    }
     if (first == "sex") {
       if (cells.size() < 2) throw Error(ErrorKind::Format, where + ": sex needs a value", "sex");
       set.sex = sex_of(cells[1], where);
@@ -165,7 +190,7 @@ std::string write_measurement_set_json(const MeasurementSetFile& set) {
   j["format"] = "caliper-measurements";
   j["version"] = 1;
   j["sex"] = set.sex ? nlohmann::ordered_json(to_string(*set.sex)) : nlohmann::ordered_json(nullptr);
-  j["model"] = nullptr;
+  j["model"] = set.model ? nlohmann::ordered_json(*set.model) : nlohmann::ordered_json(nullptr);
   if (set.measured_by) j["measured_by"] = *set.measured_by;
   j["units"] = "lengths in cm, weight in kg";
   nlohmann::ordered_json m = nlohmann::ordered_json::object();
@@ -180,6 +205,7 @@ std::string write_measurement_set_json(const MeasurementSetFile& set) {
 std::string write_measurement_set_csv(const MeasurementSetFile& set) {
   std::string out = "measurement,value,unit\n";
   if (set.sex) out += std::string("sex,") + to_string(*set.sex) + ",\n";
+  if (set.model) out += "model," + *set.model + ",\n";
   if (set.measured_by) out += "measured_by," + *set.measured_by + ",\n";
   for (const auto& info : measurement_catalogue()) {
     auto it = set.edge.find(info.name);

@@ -306,7 +306,7 @@ TEST_F(ApiTest, NumbersTooLargeForADoubleAreA400NamingTheBody) {
                            "/api/measurement-set/import", "/api/measurement-set/export"}) {
     json e = expect_error(call("POST", path, huge), 400, "body");
     EXPECT_EQ(e["kind"], "invalid_argument") << path;
-    EXPECT_NE(e["message"].get<std::string>().find("a number in the request is too large"), std::string::npos) << path << ": " << e;
+    EXPECT_NE(e["message"].get<std::string>().find("too large"), std::string::npos) << path << ": " << e;
   }
   // A huge integer literal (no exponent) overflows the same way.
   json e = expect_error(call("POST", "/api/measurement-set/import", "{\"stature\": 1" + std::string(400, '0') + "}"), 400, "body");
@@ -428,6 +428,10 @@ TEST_F(ApiTest, BadMeasurementSetsAreRefusedNamingTheField) {
   expect_error(call("POST", "/api/measurement-set/import", "# nothing\n", {}, "text/csv"), 400, "body");
   expect_error(call("POST", "/api/measurement-set/import", R"({"measurements": {"stature": "x"}})"), 400, "stature");
   expect_error(call("POST", "/api/measurement-set/import", R"({"measurements": {"stature": 170)"), 400, "body");
+  // The library's reader decides, as for `caliper avatar --measurements`: a newer version and a
+  // JSON array are refused (the server's own reader once took both).
+  expect_error(call("POST", "/api/measurement-set/import", R"({"version": 99, "measurements": {"stature": 170}})"), 400, "version");
+  expect_error(call("POST", "/api/measurement-set/import", "[170, 60]"), 400, "body");
   expect_error(call("POST", "/api/measurement-set/export", avatar_body(170, 60).dump(), {{"format", "xml"}}), 400, "format");
 }
 

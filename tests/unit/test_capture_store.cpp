@@ -342,5 +342,28 @@ TEST(MeasurementSetFile, RoundTripsJsonAndCsvAndChecksValues) {
   EXPECT_THROW(parse_measurement_set("{\"measurements\": {\"elbow_wobble\": 3}}"), Error);
 }
 
+// The one reader serves the server too: the model a set was made on survives both formats, and
+// a Caliper report reads as the values that were requested (achieved-only entries were no input).
+TEST(MeasurementSetFile, KeepsTheModelAndReadsReports) {
+  MeasurementSetFile set;
+  set.model = "makehuman";
+  set.edge = {{"stature", 180.0}};
+  for (const std::string& text : {write_measurement_set_json(set), write_measurement_set_csv(set)})
+    EXPECT_EQ(parse_measurement_set(text).model, std::optional<std::string>("makehuman")) << text;
+  EXPECT_FALSE(parse_measurement_set("{\"measurements\": {\"stature\": 170}}").model);
+  const MeasurementSetFile report = parse_measurement_set(R"({"measurements": {
+      "stature": {"requested_cm": 171.5, "achieved_cm": 171.49},
+      "weight": {"requested_kg": 66, "achieved_kg": 65.98},
+      "chest_circumference": {"achieved_cm": 95.1}}})");
+  EXPECT_EQ(report.edge, (std::map<std::string, double>{{"stature", 171.5}, {"weight", 66.0}}));
+  try {
+    parse_measurement_set(R"({"measurements": {"stature": {"height": 170}}})");
+    FAIL() << "an object that is not a report entry was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.field(), "stature");
+  }
+  EXPECT_THROW(parse_measurement_set(R"({"measurements": {"stature": {"requested_cm": "tall"}}})"), Error);
+}
+
 }  // namespace
 }  // namespace caliper::capture

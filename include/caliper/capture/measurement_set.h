@@ -19,6 +19,7 @@ namespace caliper {
 struct MeasurementSetFile {
   std::optional<Sex> sex;
   std::optional<std::string> measured_by;  // "self" or "other"
+  std::optional<std::string> model;        // the body model the values were set on, when the file says
   std::map<std::string, double> edge;  // canonical name → cm or kg
 };
 
@@ -27,8 +28,10 @@ std::string write_measurement_set_json(const MeasurementSetFile& set);
 std::string write_measurement_set_csv(const MeasurementSetFile& set);
 
 // Reads either format (JSON if the text starts with '{'). Accepts aliases, a flat JSON object,
-// units cm/mm/m/in and kg/g/lb in CSV. Throws Error(Format) for a malformed file and
-// Error(InvalidArgument|OutOfRange) naming the measurement for a bad value.
+// a Caliper report (each entry's requested value; achieved-only entries were not inputs),
+// units cm/mm/m/in and kg/g/lb in CSV. The one reader for every caller: CLI, server, capture. Throws Error(Format) for a malformed file and
+// Error(InvalidArgument|OutOfRange) naming the measurement for a bad value. Errors about the set
+// as a whole (empty, not JSON, a number beyond a double) name the field "measurements".
 MeasurementSetFile parse_measurement_set(const std::string& text);
 
 namespace capture { class CaptureProtocol; }
