@@ -56,4 +56,19 @@ bool host_is_allowed(const std::string& host_header, const std::vector<std::stri
   return std::any_of(extra_names.begin(), extra_names.end(), [&](const std::string& n) { return normalised(n) == host; });
 }
 
+bool origin_is_same_host(const std::string& origin_header, const std::string& host_header) {
+  if (origin_header.empty()) return true;
+  const std::string origin = normalised(origin_header);
+  const size_t scheme_end = origin.find("://");
+  if (scheme_end == std::string::npos) return false;  // includes "null"
+  const std::string scheme = origin.substr(0, scheme_end);
+  if (scheme != "http" && scheme != "https") return false;
+  std::string origin_host = origin.substr(scheme_end + 3), host = normalised(host_header);
+  if (origin_host.empty() || origin_host.find('/') != std::string::npos || host.empty()) return false;
+  const std::string default_port = scheme == "http" ? ":80" : ":443";
+  for (std::string* h : {&origin_host, &host})
+    if (h->size() > default_port.size() && h->ends_with(default_port)) h->erase(h->size() - default_port.size());
+  return origin_host == host;
+}
+
 }  // namespace caliper::server

@@ -85,6 +85,21 @@ struct Server::Impl {
                                "Host", "host_not_allowed"));
       return;
     }
+    const bool write = req.method != "GET" && req.method != "HEAD" && req.method != "OPTIONS";
+    if (write && !origin_is_same_host(req.get_header_value("Origin"), req.get_header_value("Host"))) {
+      send(res, error_response(403,
+                               "writes are accepted only from this server's own pages, not from '" +
+                                   req.get_header_value("Origin") + "' (protection against cross-site requests)",
+                               "Origin", "origin_not_allowed"));
+      return;
+    }
+    // A preflight gets no Access-Control-Allow-* header, so browsers never send another site's
+    // non-simple request (JSON POST, DELETE) at all.
+    if (req.method == "OPTIONS") {
+      res.status = 204;
+      res.set_header("Allow", "GET, HEAD, POST, PUT, DELETE, PATCH, OPTIONS");
+      return;
+    }
     if (req.path.rfind("/api/", 0) == 0) handle_api(req, res);
     else if (req.method == "GET" || req.method == "HEAD") handle_static(req, res);
     else send(res, error_response(405, req.method + " is only allowed on /api/ endpoints", "method", "method_not_allowed"));
@@ -126,6 +141,7 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>(std::move(o
   s.http.Put(".*", handler);
   s.http.Delete(".*", handler);
   s.http.Patch(".*", handler);
+  s.http.Options(".*", handler);
   // httplib's own refusals (413 for an oversized body, 400 for a malformed request line) come
   // without a body; give them the API's JSON error shape.
   s.http.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {

@@ -158,6 +158,30 @@ TEST_F(HttpTest, RequestsForOtherHostNamesAreRefused) {
   }
 }
 
+// Another site's page can make the browser POST here (a text/plain form needs no preflight);
+// the browser says where the page came from in Origin, and only this server's own pages may write.
+TEST_F(HttpTest, WritesFromOtherSitesAreRefused) {
+  const std::string host = "127.0.0.1:" + std::to_string(port_);
+  const std::string body = R"({"sex":"female","measurements":{"stature":165,"weight":60}})";
+  auto post = [&](const std::string& origin_line) {
+    return raw("POST /api/avatar HTTP/1.1\r\nHost: " + host + "\r\n" + origin_line + "Content-Type: text/plain\r\n" +
+               "Content-Length: " + std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body);
+  };
+  const std::string refused = post("Origin: http://evil.example\r\n");
+  ASSERT_EQ(refused.substr(0, 12), "HTTP/1.1 403") << refused;
+  EXPECT_EQ(json::parse(refused.substr(refused.find("\r\n\r\n") + 4))["error"]["kind"], "origin_not_allowed");
+  EXPECT_EQ(post("Origin: null\r\n").substr(0, 12), "HTTP/1.1 403");
+  EXPECT_EQ(post("Origin: http://" + host + "\r\n").substr(0, 12), "HTTP/1.1 200");
+  EXPECT_EQ(post("").substr(0, 12), "HTTP/1.1 200");
+  // Reads are not writes; a preflight is answered without any Access-Control-Allow-* header.
+  EXPECT_EQ(raw("GET /api/health HTTP/1.1\r\nHost: " + host + "\r\nOrigin: http://evil.example\r\nConnection: close\r\n\r\n").substr(0, 12),
+            "HTTP/1.1 200");
+  const std::string preflight = raw("OPTIONS /api/sessions HTTP/1.1\r\nHost: " + host +
+                                    "\r\nOrigin: http://evil.example\r\nAccess-Control-Request-Method: POST\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(preflight.substr(0, 12), "HTTP/1.1 204") << preflight;
+  EXPECT_EQ(preflight.find("Access-Control-Allow"), std::string::npos) << preflight;
+}
+
 TEST_F(HttpTest, OversizedBodiesAreRefusedWith413) {
   auto c = client();
   std::string big = "{\"measurements\": {\"stature\": 170, \"weight\": 60}, \"pad\": \"" + std::string(200 * 1024, 'x') + "\"}";
