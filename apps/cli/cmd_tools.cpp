@@ -64,6 +64,10 @@ void register_measure(CLI::App& app) {
       }
       return;
     }
+    if (opts->beta.empty() && opts->values.empty() && opts->extra.empty() && opts->measurements_file.empty())
+      throw Error(ErrorKind::InvalidArgument,
+                  "nothing to measure: give shape values (--beta 0 for the mean body), measurements (e.g. --height 170 "
+                  "--weight 65, --measurements FILE) or a mesh (--mesh FILE.obj)", "measure");
     BuiltAvatar built = build_avatar(*opts);
     print_measurements(built.avatar.achieved, *json);
   });

@@ -116,8 +116,11 @@ RealToVirtualFit fit_real_to_virtual(const BodyModel& provisional, const Eigen::
     const Eigen::Vector2d fit = xr.colPivHouseholderQr().solve(yv);
     const double rmse = std::sqrt((xr * fit - yv).squaredNorm() / n);
     const double mean_gap = (yv - xr.col(0)).cwiseAbs().mean();
-    fits << name << ": virtual = " << fit(0) << " * real + " << fit(1) * 100 << " cm (rmse " << rmse * 100
-         << " cm, mean |virtual - real| " << mean_gap * 100 << " cm); ";
+    // Rounded to what a fit over thousands of bodies can say (an identity comes out as 1 and 0,
+    // not 1e-13 of float noise).
+    auto round_to = [](double v, double step) { return std::round(v / step) * step + 0.0; };
+    fits << name << ": virtual = " << round_to(fit(0), 1e-6) << " * real + " << round_to(fit(1) * 100, 1e-3) << " cm (rmse "
+         << round_to(rmse * 100, 1e-3) << " cm, mean |virtual - real| " << round_to(mean_gap * 100, 1e-3) << " cm); ";
     if (mean_gap < 0.002) continue;  // reproduced by construction: identity
     LinearMap lm;
     lm.slope = fit(0);

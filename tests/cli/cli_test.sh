@@ -127,6 +127,11 @@ expect 0 "--force builds with the values as given" "$CALIPER" avatar --sex femal
 says "outside the population" "and the avatar is the closest body inside it"
 expect 0 "model info" "$CALIPER" model info mannequin --sex male
 says "vertices" "model info lists counts"
+"$CALIPER" model info mannequin --sex female > "$TMP/info.txt" 2>&1
+if grep -qE "[0-9]e-[0-9]" "$TMP/info.txt"; then failed=$((failed + 1)); echo "FAIL: model info prints float noise:"; grep -E "[0-9]e-[0-9]" "$TMP/info.txt" | head -2; else passed=$((passed + 1)); fi
+expect 3 "measure with nothing to measure" "$CALIPER" measure
+says "nothing to measure" "measure without arguments says what it needs"
+says "--beta 0" "measure without arguments names the options"
 expect 0 "model creases" "$CALIPER" model creases mannequin --sex male --json "$TMP/creases.json"
 says "| arms |" "model creases reports per region"
 says "torso, arms and legs: largest angle" "model creases sums up the smooth regions"
