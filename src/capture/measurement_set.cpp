@@ -16,11 +16,15 @@ namespace caliper {
 
 namespace {
 
-std::string lower_trim(const std::string& s) {
+// A cell without surrounding blanks and quotes (spreadsheets quote cells).
+std::string trim(const std::string& s) {
   const size_t a = s.find_first_not_of(" \t\r\n\"");
   if (a == std::string::npos) return {};
-  const size_t b = s.find_last_not_of(" \t\r\n\"");
-  std::string t = s.substr(a, b - a + 1);
+  return s.substr(a, s.find_last_not_of(" \t\r\n\"") - a + 1);
+}
+
+std::string lower_trim(const std::string& s) {
+  std::string t = trim(s);
   for (auto& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return t;
 }
@@ -153,8 +157,7 @@ MeasurementSetFile parse_csv(const std::string& text) {
     const std::string first = lower_trim(cells[0]);
     if (first == "measurement" || first == "name") continue;
     if (first == "model") {
-      const size_t a = cells.size() >= 2 ? cells[1].find_first_not_of(" \t\r\"") : std::string::npos;
-      if (a != std::string::npos) set.model = cells[1].substr(a, cells[1].find_last_not_of(" \t\r\"") - a + 1);
+      if (cells.size() >= 2 && !trim(cells[1]).empty()) set.model = trim(cells[1]);
       continue;
     }
     if (first == "sex") {
