@@ -106,9 +106,9 @@ void register_render(CLI::App& app) {
   cmd->add_option("-o,--output", *output, "output PNG file (.png)")->required();
   cmd->add_option("--views", *views, "views: front, side, back, three-quarter")->delimiter(',')->capture_default_str();
   cmd->add_option("--pose", *pose,
-                  "t (rest pose, arms horizontal), a (arms lowered 45°) or stride (mid-stride, knees and elbows bent); "
-                  "a and stride are posed by the rig's skinning")
-      ->check(CLI::IsMember({"t", "a", "stride"}))
+                  "t (rest pose, arms horizontal), a (arms lowered 45°), stride (mid-stride, knees and elbows bent) or "
+                  "fist (arms lowered 45°, hands closed); a, stride and fist are posed by the rig's skinning")
+      ->check(CLI::IsMember({"t", "a", "stride", "fist"}))
       ->capture_default_str();
   cmd->add_flag("--uncertainty", *heat,
                 "colour the body by the per-vertex SD of --regressor map (blue: certain, red: the body's largest SD)");
@@ -167,6 +167,7 @@ void register_render(CLI::App& app) {
       const Vertices& rest = built.avatar.rest_vertices;
       const Vertices shown = *pose == "a"        ? pose_vertices(model, rest, a_pose(model))
                              : *pose == "stride" ? pose_vertices(model, rest, stride_pose(model))
+                             : *pose == "fist"   ? pose_vertices(model, rest, a_pose(model) + fist_pose(model))
                                                  : rest;
       write_file(*output, render_views_png(shown, built.model->faces(), vs, ro));
     }

@@ -51,6 +51,36 @@ const std::vector<int>& smpl_parents() {
   return parents;
 }
 
+const std::vector<std::string>& finger_joint_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const char* side : {"left", "right"})
+      for (const char* finger : {"index", "middle", "pinky", "ring", "thumb"})
+        for (int k = 1; k <= 3; ++k) n.push_back(std::string(side) + "_" + finger + std::to_string(k));
+    return n;
+  }();
+  return names;
+}
+
+const std::vector<std::string>& rig_joint_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = smpl_joint_names();
+    n.insert(n.end(), finger_joint_names().begin(), finger_joint_names().end());
+    return n;
+  }();
+  return names;
+}
+
+const std::vector<int>& rig_parents() {
+  static const std::vector<int> parents = [] {
+    std::vector<int> p = smpl_parents();
+    const int left_hand = 22, right_hand = 23, first = static_cast<int>(p.size());
+    for (int k = 0; k < 30; ++k) p.push_back(k % 3 == 0 ? (k < 15 ? left_hand : right_hand) : first + k - 1);
+    return p;
+  }();
+  return parents;
+}
+
 namespace {
 
 [[noreturn]] void inconsistent(const std::string& field, const std::string& what) {

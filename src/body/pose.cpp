@@ -54,6 +54,35 @@ Pose stride_pose(const BodyModel& model) {
   return pose;
 }
 
+Pose fist_pose(const BodyModel& model) {
+  Pose pose = zero_pose(model);
+  // Left hand (fingers along +X, palm down): flexion turns +X towards −Y, a rotation about −Z;
+  // the thumb (along +X+Z, a little down) folds about the axis across it. The right hand's axes
+  // are the mirror images (x kept, y and z negated: rotations are axial vectors).
+  const Eigen::Vector3d finger_axis(0, 0, -1), thumb_axis = Eigen::Vector3d(0.55, 0, -0.85).normalized();
+  auto mirrored = [](const Eigen::Vector3d& a) { return Eigen::Vector3d(a.x(), -a.y(), -a.z()); };
+  constexpr double kDeg = M_PI / 180;
+  constexpr double kFinger[3] = {80 * kDeg, 95 * kDeg, 60 * kDeg}, kThumb[3] = {25 * kDeg, 40 * kDeg, 50 * kDeg};
+  bool has_fingers = false;
+  for (const char* side : {"left", "right"}) {
+    const bool left = side[0] == 'l';
+    for (const char* finger : {"index", "middle", "ring", "pinky", "thumb"})
+      for (int k = 0; k < 3; ++k) {
+        const int j = joint_index(model, std::string(side) + "_" + finger + std::to_string(k + 1));
+        if (j < 0) continue;
+        has_fingers = true;
+        const bool thumb = finger[0] == 't';
+        const Eigen::Vector3d axis = thumb ? thumb_axis : finger_axis;
+        pose.row(j) = ((left ? axis : mirrored(axis)) * (thumb ? kThumb[k] : kFinger[k])).transpose();
+      }
+  }
+  if (!has_fingers)
+    for (const char* side : {"left", "right"})
+      if (const int j = joint_index(model, std::string(side) + "_hand"); j >= 0)
+        pose.row(j) = ((side[0] == 'l' ? finger_axis : mirrored(finger_axis)) * kFinger[0]).transpose();
+  return pose;
+}
+
 std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model, const Eigen::MatrixX3d& rest_joints,
                                                     const Pose& pose) {
   const int nj = model.joint_count();

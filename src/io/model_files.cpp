@@ -317,9 +317,7 @@ BodyModel native_from_arrays(const Arrays& f) {
 std::vector<std::string> smplx_joint_names(bool with_face) {
   std::vector<std::string> names(smpl_joint_names().begin(), smpl_joint_names().begin() + 22);
   if (with_face) names.insert(names.end(), {"jaw", "left_eye_smplhf", "right_eye_smplhf"});
-  for (const char* side : {"left", "right"})
-    for (const char* finger : {"index", "middle", "pinky", "ring", "thumb"})
-      for (int k = 1; k <= 3; ++k) names.push_back(std::string(side) + "_" + finger + std::to_string(k));
+  names.insert(names.end(), finger_joint_names().begin(), finger_joint_names().end());
   return names;
 }
 

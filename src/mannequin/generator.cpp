@@ -48,6 +48,7 @@
 #include <cmath>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <set>
 
 #include "caliper/errors.h"
@@ -70,7 +71,7 @@ constexpr int kBridge = 7;     // interior crotch bridge vertices
 constexpr int kArmN = 32;      // points per arm ring (= armpit hole boundary)
 constexpr int kHoleJ0 = 12, kHoleJ1 = 20;  // armpit hole columns on the left side
 constexpr int kHoleRows = 8;                // ring intervals spanned by the armpit hole
-constexpr int kThumbQ0 = 25, kThumbQ1 = 29; // thumb hole columns on the hand (q = 28 is +Z)
+constexpr int kThumbQ0 = 27, kThumbQ1 = 31; // thumb hole columns on the hand (q = 28 is +Z), a little under its edge
 constexpr int kThumbRows = 3;
 // Fairing of the shoulder (fair()): torso columns beside the armpit hole, arm rings after it.
 constexpr int kFairColumns = 6, kFairArmRings = 3, kFairIterations = 30;
@@ -92,9 +93,32 @@ constexpr std::array<double, 7> kFootLevels = {0.78, 0.58, 0.42, 0.29, 0.18, 0.0
 constexpr int kFootBreadthRing = 6;  // index into foot rings (+ the sole ring after them)
 
 // Arm stations (x = const rings) after the hole ring r0.
-enum ArmKey { kRoot, kDeltoid, kAcromion, kDeltoidLow, kBiceps, kElbow, kForearm, kWrist, kPalm, kThumbTop, kKnuckle, kArmKeyCount };
-constexpr std::array<int, kArmKeyCount - 1> kArmIntervals = {1, 1, 3, 3, 4, 3, 6, 2, kThumbRows, 3};
-constexpr std::array<double, 6> kFingerU = {0.3, 0.55, 0.75, 0.88, 0.96, 0.995};
+// kKnuckle: the knuckles (MCP joints, hand breadth); kWeb: the webs between the fingers, where
+// the hand's last ring splits into the four fingers.
+enum ArmKey { kRoot, kDeltoid, kAcromion, kDeltoidLow, kBiceps, kElbow, kForearm, kWrist, kPalm, kThumbTop, kKnuckle, kWeb, kArmKeyCount };
+constexpr std::array<int, kArmKeyCount - 1> kArmIntervals = {1, 1, 3, 3, 4, 3, 6, 2, kThumbRows, 3, 2};
+
+// Fingers, index to little finger (+Z to −Z on the T-posed left hand, palm down). Each grows from
+// an arc of the web ring's columns q (one contiguous loop around the finger, listed in ring order);
+// every column belongs to one finger, and the gaps between neighbouring arcs are the webs.
+enum Finger { kIndex, kMiddle, kRing, kPinky, kFingerCount };
+const std::array<std::vector<int>, kFingerCount> kFingerColumns = {{
+    {24, 25, 26, 27, 28, 29, 30, 31, 0},  // top, the front side, bottom
+    {20, 21, 22, 23, 1, 2, 3, 4},
+    {16, 17, 18, 19, 5, 6, 7, 8},
+    {9, 10, 11, 12, 13, 14, 15},          // bottom, the back side, top
+}};
+// Rings along a finger at these fractions of its length from the knuckle (MCP joint) to the tip;
+// kPipRing and kDipRing are the middle and end joints (phalanges ≈ 0.48 : 0.30 : 0.22 of the
+// length), where rings sit close so the finger bends cleanly.
+// The webs: between index and middle, middle and ring, ring and little finger (top, top, bottom,
+// bottom columns).
+constexpr std::array<std::array<int, 4>, kFingerCount - 1> kWebQuads = {{{24, 23, 1, 0}, {20, 19, 5, 4}, {16, 15, 9, 8}}};
+constexpr std::array<double, 15> kFingerM = {0.22, 0.29, 0.36, 0.42, 0.48, 0.54, 0.61, 0.68, 0.74, 0.78, 0.83, 0.89, 0.94, 0.975, 0.995};
+constexpr int kPipRing = 4, kDipRing = 9;  // indices into kFingerM
+// Thumb rings at fractions of its length from the palm; joints 2 and 3 at kThumbU[4] and [8].
+constexpr std::array<double, 14> kThumbU = {0.1, 0.2, 0.3, 0.37, 0.42, 0.48, 0.56, 0.64, 0.72, 0.8, 0.87, 0.93, 0.97, 0.993};
+constexpr int kThumbMcpRing = 4, kThumbIpRing = 8;
 
 int torso_key_ring(int key) {
   int k = 0;
@@ -121,12 +145,11 @@ constexpr int leg_ring_count() {  // r0..malleolus + foot rings + sole ring
   for (int v : kLegIntervals) k += v;
   return k + static_cast<int>(kFootLevels.size()) + 1;
 }
-constexpr int arm_ring_count() {  // r0..knuckle + finger rings
+constexpr int arm_ring_count() {  // r0..web ring
   int k = 2;
   for (int v : kArmIntervals) k += v;
-  return k + static_cast<int>(kFingerU.size());
+  return k;
 }
-constexpr std::array<double, 5> kThumbU = {0.2, 0.45, 0.68, 0.86, 0.97};
 
 // Leg ring angles φ (0 = front, 90° = lateral, 180° = back, 270° = medial). The first 33 come
 // from the torso's half ring, the last 7 from the crotch bridge; 0/90/180/270° are exact points.
@@ -259,10 +282,50 @@ void fit_leg_circumference(LegRing& r, double c) {
 
 struct ArmRing {
   double x = 0, yc = 0, zc = 0, ry = 0.04, rz = 0.04, p = 2.2;
+  // 0: columns at equal angles ψ (arm_angle); 1: at equal arc length within each quarter. The
+  // flat hand needs the latter, or its columns bunch at the hand's edges and leave the back of
+  // the hand, where the fingers start, with a few wide columns.
+  double flat = 0;
 };
 Vec3 arm_point(const ArmRing& r, double psi) {  // left arm
   const double e = 2.0 / r.p;
   return {r.x, r.yc - r.ry * spow(std::cos(psi), e), r.zc - r.rz * spow(std::sin(psi), e)};
+}
+// The angle of column q on ring r (see ArmRing::flat). Quarters run between the bottom, back, top
+// and front columns, which keep their angles, and are mirror images of the first.
+double arm_column_angle(const ArmRing& r, int q) {
+  const double uniform = arm_angle(q);
+  if (r.flat <= 0) return uniform;
+  constexpr int kQuarter = kArmN / 4, kSamples = 256;
+  std::array<double, kSamples + 1> length{};  // arc length from ψ = 0 (bottom) to ψ = 90° (back)
+  Eigen::Vector2d prev(-r.ry, 0);
+  for (int i = 1; i <= kSamples; ++i) {
+    const Vec3 p = arm_point(r, 0.5 * kPi * i / kSamples);
+    const Eigen::Vector2d cur(p.y() - r.yc, p.z() - r.zc);
+    length[static_cast<size_t>(i)] = length[static_cast<size_t>(i - 1)] + (cur - prev).norm();
+    prev = cur;
+  }
+  auto equal_arc = [&](int k) {  // ψ in [0, 90°] at k/kQuarter of the quarter's length
+    const double target = length.back() * k / kQuarter;
+    const auto it = std::lower_bound(length.begin(), length.end(), target);
+    const auto i = std::max<std::ptrdiff_t>(1, it - length.begin());
+    const double t = (target - length[static_cast<size_t>(i - 1)]) /
+                     std::max(1e-15, length[static_cast<size_t>(i)] - length[static_cast<size_t>(i - 1)]);
+    return 0.5 * kPi * (static_cast<double>(i - 1) + t) / kSamples;
+  };
+  const int qb = ((q - kArmBottom) % kArmN + kArmN) % kArmN;  // columns from the bottom
+  const int quarter = qb / kQuarter, k = qb % kQuarter;
+  double psi = 0;
+  switch (quarter) {
+    case 0: psi = equal_arc(k); break;
+    case 1: psi = kPi - equal_arc(kQuarter - k); break;
+    case 2: psi = kPi + equal_arc(k); break;
+    default: psi = 2 * kPi - equal_arc(kQuarter - k); break;
+  }
+  double base = uniform;  // the same angle, unwrapped to [0, 2π) from the bottom
+  while (base < 0) base += 2 * kPi;
+  if (qb == 0) base = 0;
+  return (1 - r.flat) * base + r.flat * psi;
 }
 void fit_arm_circumference(ArmRing& r, double c) {
   std::vector<Eigen::Vector2d> pts(kArmN);
@@ -341,10 +404,11 @@ void validate(const Dimensions& dims, Sex sex) {
 }
 
 // ---- The body builder --------------------------------------------------------------------
-enum class Part { Torso, Bridge, Leg, Arm, Thumb, Pole };
+enum class Part { Torso, Bridge, Leg, Arm, Thumb, Finger, Pole };
 // UV islands (uv_layout): the faces of each, in the order build() emits them.
 enum Island { kIslandTorso, kIslandLeg, kIslandSole = kIslandLeg + 2, kIslandArm = kIslandSole + 2,
-              kIslandThumb = kIslandArm + 2, kIslandCount = kIslandThumb + 2 };
+              kIslandThumb = kIslandArm + 2, kIslandFinger = kIslandThumb + 2,
+              kIslandWeb = kIslandFinger + 2 * kFingerCount, kIslandCount = kIslandWeb + 2 };
 
 struct Builder {
   // Geometry output.
@@ -361,8 +425,10 @@ struct Builder {
   std::vector<std::vector<int>> torso;  // [ring][j], −1 inside the armpit holes
   int head_pole = -1;
   std::vector<int> bridge;
-  std::array<std::vector<std::vector<int>>, 2> leg, arm, thumb;  // [side][ring][k]
-  std::array<int, 2> hand_pole{}, thumb_pole{};
+  std::array<std::vector<std::vector<int>>, 2> leg, arm, thumb;  // [side][ring][k]; a digit's ring 0 is its base loop
+  std::array<std::array<std::vector<std::vector<int>>, kFingerCount>, 2> finger;  // [side][finger][ring][k]
+  std::array<int, 2> thumb_pole{};
+  std::array<std::array<int, kFingerCount>, 2> finger_pole{};  // fingertips; the middle one's is the dactylion
   std::vector<std::pair<size_t, int>> island_starts;  // (first face, Island), in face order
 
   void island(int id) {
@@ -397,6 +463,21 @@ struct Builder {
 
 Vec3 mirror(const Vec3& p) { return {-p.x(), p.y(), p.z()}; }
 
+// A finger or the thumb (left hand; the right is its mirror image): a tube of rings grown from a
+// loop of the hand's vertices (its base) along `dir`, each ring an ellipse about the axis — half
+// `half_width` across the palm, `half_thick` through it — turning from the base loop's own shape
+// near the base, and closed by a pole at the tip.
+struct DigitPlan {
+  Vec3 dir{1, 0, 0};         // the axis, unless `tip` is given
+  Vec3 up{0, 1, 0};          // the back of the digit (the nail's side)
+  std::optional<Vec3> tip;   // where the pole must be (the middle fingertip: the dactylion); sets dir
+  double length = 0;         // from the joint plane to the tip, along the axis (unless `tip`)
+  double root = 0;           // x distance from the joint plane (knuckles) to the base loop (fingers)
+  double blend = 0.12;       // rings reach the elliptic section this fraction of `length` past the base
+  std::vector<double> at;    // ring positions, fractions of the length from the joint plane
+  std::vector<double> half_width, half_thick;  // per ring, metres
+};
+
 struct BodyPlan {  // everything the builder needs, derived from the dimensions
   std::vector<TorsoRing> torso;  // per ring
   std::vector<double> torso_tilt_side, torso_tilt_back;  // per ring: y offsets at the side / back (tilted low ring)
@@ -412,12 +493,60 @@ struct BodyPlan {  // everything the builder needs, derived from the dimensions
   // lowest torso rings and the legs' first ring drop at the side / back by these (≤ 0) amounts.
   double seat_drop_side = 0, seat_drop_back = 0;
   std::vector<ArmRing> arm;      // per ring index ≥ 1
+  DigitPlan thumb;
+  std::array<DigitPlan, kFingerCount> finger;
   double crotch_y = 0, crotch_z = 0;  // the crotch point, under the thighs' centres
   double dactylion_x = 0, arm_y = 0, arm_z = 0;
   double head_top = 0;
   double heel_z = 0, toe_z = 0;
-  double hand_length = 0, thumb_len = 0, thumb_r = 0;
+  double hand_length = 0;
 };
+
+
+// The thumb and fingers of the left hand, from the knuckle and web rings (ANSUR has only hand
+// length and breadth: the rest are typical proportions). The middle fingertip is the dactylion,
+// so hand length and span stay exact; the others' lengths are fractions of the middle finger's,
+// each finger takes a share of the hand's breadth, and the outer ones fan out a little.
+void plan_digits(const Dims& d, const ArmRing& knuckle, const ArmRing& web, BodyPlan& P) {
+  auto rounded = [](double m, double tip_fraction) {  // the fingertip: a quarter ellipse
+    const double m0 = 1 - tip_fraction;
+    return m <= m0 ? 1.0 : std::sqrt(std::max(0.0, 1 - std::pow((m - m0) / tip_fraction, 2)));
+  };
+  DigitPlan& t = P.thumb;
+  t.dir = Vec3(0.8, -0.25, 0.52).normalized();  // out, forward and a little under the palm (opposed)
+  t.length = 0.36 * d.handl;
+  t.blend = 0.25;
+  for (double u : kThumbU) {
+    // Full at the base (the ball of the thumb), a slight swelling at the knuckle, a rounded tip.
+    const double knuckle = 1 + 0.05 * std::exp(-std::pow((u - kThumbU[kThumbIpRing]) / 0.05, 2));
+    const double r = 0.062 * d.handl * (1.15 - 0.35 * u) * knuckle * rounded(u, 0.3);
+    t.at.push_back(u);
+    t.half_width.push_back(r);
+    t.half_thick.push_back(0.88 * r);
+  }
+  constexpr std::array<double, kFingerCount> kLength = {0.91, 1.0, 0.95, 0.77};   // × the middle finger's
+  constexpr std::array<double, kFingerCount> kYawDeg = {3, 0, -4, -9};           // towards +Z (the thumb)
+  constexpr std::array<double, kFingerCount> kShare = {0.27, 0.26, 0.245, 0.225};  // of the hand's breadth
+  const double middle = P.dactylion_x - knuckle.x, breadth = 2 * web.rz;
+  for (int f = 0; f < kFingerCount; ++f) {
+    DigitPlan& g = P.finger[static_cast<size_t>(f)];
+    const double yaw = kYawDeg[static_cast<size_t>(f)] * kPi / 180;
+    g.dir = Vec3(std::cos(yaw), 0, std::sin(yaw));
+    g.length = kLength[static_cast<size_t>(f)] * middle;
+    if (f == kMiddle) g.tip = Vec3(P.dactylion_x, P.arm_y, P.arm_z);
+    g.root = web.x - knuckle.x;
+    const double w0 = 0.5 * kShare[static_cast<size_t>(f)] * breadth;
+    for (double m : kFingerM) {
+      // Taper to the tip, a slight swelling over the two finger joints, a rounded tip.
+      const double knuckles = 1 + 0.05 * (std::exp(-std::pow((m - kFingerM[kPipRing]) / 0.035, 2)) +
+                                          std::exp(-std::pow((m - kFingerM[kDipRing]) / 0.03, 2)));
+      const double r = w0 * (1 - 0.22 * m) * knuckles * rounded(m, 0.8 * w0 / g.length);
+      g.at.push_back(m);
+      g.half_width.push_back(r);
+      g.half_thick.push_back(0.85 * r);
+    }
+  }
+}
 
 BodyPlan plan_body(const Dims& d, Sex sex) {
   BodyPlan P;
@@ -919,33 +1048,26 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     A[kPalm] = {x_wr + 0.12 * hl, P.arm_y, zc0, thick * 0.55, d.handb * 0.44, 2.6};
     A[kThumbTop] = {x_wr + 0.32 * hl, P.arm_y, zc0, thick * 0.5, d.handb * 0.49, 2.8};
     A[kKnuckle] = {x_wr + 0.47 * hl, P.arm_y, zc0, thick * 0.42, d.handb * 0.5, 2.8};
-    P.thumb_len = 0.36 * d.handl;
-    P.thumb_r = 0.055 * d.handl;
-    std::vector<double> x, yc, zc, ry, rz, pp;
-    for (const auto& r : A) { x.push_back(r.x); yc.push_back(r.yc); zc.push_back(r.zc); ry.push_back(r.ry); rz.push_back(r.rz); pp.push_back(r.p); }
-    const MonotoneCurve cyc(x, yc), czc(x, zc), cry(x, ry), crz(x, rz), cpp(x, pp);
+    A[kWeb] = {x_wr + 0.54 * hl, P.arm_y, zc0, thick * 0.36, d.handb * 0.48, 3.2};
+    for (int key = kKnuckle; key < kArmKeyCount; ++key) A[static_cast<size_t>(key)].flat = 1;  // after the thumb's hole
+    std::vector<double> x, yc, zc, ry, rz, pp, fl;
+    for (const auto& r : A) {
+      x.push_back(r.x); yc.push_back(r.yc); zc.push_back(r.zc); ry.push_back(r.ry); rz.push_back(r.rz); pp.push_back(r.p);
+      fl.push_back(r.flat);
+    }
+    const MonotoneCurve cyc(x, yc), czc(x, zc), cry(x, ry), crz(x, rz), cpp(x, pp), cfl(x, fl);
     P.arm.resize(static_cast<size_t>(arm_ring_count()));
     for (int key = 0; key + 1 < kArmKeyCount; ++key) {
       const int k0 = arm_key_ring(key), n = kArmIntervals[static_cast<size_t>(key)];
       for (int i = 0; i < n; ++i) {
         const double xx = A[key].x + (A[key + 1].x - A[key].x) * i / n;
-        ArmRing r{xx, cyc(xx), czc(xx), cry(xx), crz(xx), cpp(xx)};
+        ArmRing r{xx, cyc(xx), czc(xx), cry(xx), crz(xx), cpp(xx), std::clamp(cfl(xx), 0.0, 1.0)};
         if (i == 0) r = A[key];
         P.arm[static_cast<size_t>(k0 + i)] = r;
       }
     }
-    const int kk = arm_key_ring(kKnuckle);
-    P.arm[static_cast<size_t>(kk)] = A[kKnuckle];
-    for (size_t i = 0; i < kFingerU.size(); ++i) {
-      const double u = kFingerU[i];
-      ArmRing r = A[kKnuckle];
-      r.x = A[kKnuckle].x + (P.dactylion_x - A[kKnuckle].x) * u;
-      const double tip = u < 0.55 ? 1.0 : std::sqrt(std::max(0.0, 1 - std::pow((u - 0.55) / 0.45, 2)));
-      r.rz = A[kKnuckle].rz * (1 - 0.12 * u) * tip;
-      r.ry = A[kKnuckle].ry * (1 - 0.2 * u) * std::sqrt(tip);
-      r.p = 2.6;
-      P.arm[static_cast<size_t>(kk + 1 + static_cast<int>(i))] = r;
-    }
+    P.arm[static_cast<size_t>(arm_key_ring(kWeb))] = A[kWeb];
+    plan_digits(d, A[kKnuckle], A[kWeb], P);
   }
   return P;
 }
@@ -954,6 +1076,108 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
 bool in_left_hole(int k, int j, int kax) { return k > kax && k < kax + kHoleRows && j > kHoleJ0 && j < kHoleJ1; }
 bool in_hole(int k, int j, int kax) { return in_left_hole(k, j, kax) || in_left_hole(k, (kTorsoN - j) % kTorsoN, kax); }
 bool in_thumb_hole(int a, int q, int h0) { return a > h0 && a < h0 + kThumbRows && q > kThumbQ0 && q < kThumbQ1; }
+
+// Grows a digit (DigitPlan) from `base`, a loop of vertices in ring order; appends its rings
+// (ring 0 = base) to `rings` and sets `pole`. Side sd: 0 left, 1 right (the left's mirror image).
+void grow_digit(Builder& B, int sd, const std::vector<int>& base, const DigitPlan& plan,
+                std::vector<std::vector<int>>& rings, int& pole) {
+  auto left = [&](int id) { return sd == 0 ? B.v[static_cast<size_t>(id)] : mirror(B.v[static_cast<size_t>(id)]); };
+  const Part part = plan.tip || plan.root > 0 ? Part::Finger : Part::Thumb;
+  auto add = [&](const Vec3& p) { return B.add(sd == 0 ? p : mirror(p), part, sd == 0 ? 1 : -1); };
+  const int n = static_cast<int>(base.size());
+  Vec3 c = Vec3::Zero();
+  for (int id : base) c += left(id);
+  c /= n;
+  Vec3 dir = plan.dir;
+  double length = plan.length, root = 0;  // root: from the joint plane to the base, along the axis
+  if (plan.tip) {
+    dir = (*plan.tip - c).normalized();
+    root = plan.root / dir.x();
+    length = (*plan.tip - c).norm() + root;
+  } else if (plan.root > 0) {
+    root = plan.root / dir.x();
+  }
+  // A digit grown from the side of the palm (the thumb) leaves it square to its base loop and
+  // turns to its direction over the blend, or its first rings would cut into the palm on the side
+  // it leans to. Fingers leave the end of the hand, already square to their base.
+  Vec3 normal = dir;
+  if (!plan.tip && plan.root <= 0) {
+    normal = Vec3::Zero();  // Newell's normal of the base loop
+    for (int i = 0; i < n; ++i) normal += left(base[static_cast<size_t>(i)]).cross(left(base[static_cast<size_t>((i + 1) % n)]));
+    normal.normalize();
+    if (normal.dot(dir) < 0) normal = -normal;
+  }
+  auto frame = [&](const Vec3& d) {  // (side, up) across direction d
+    const Vec3 up = (plan.up - plan.up.dot(d) * d).normalized();
+    return std::pair<Vec3, Vec3>{d.cross(up), up};
+  };
+  // The base loop's directions about the axis, and evenly spaced angles in the same order.
+  const auto [side0, up0] = frame(normal);
+  std::vector<Vec3> offset(static_cast<size_t>(n));
+  std::vector<double> theta(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    offset[static_cast<size_t>(i)] = left(base[static_cast<size_t>(i)]) - c;
+    const Vec3 e = offset[static_cast<size_t>(i)] - offset[static_cast<size_t>(i)].dot(normal) * normal;
+    theta[static_cast<size_t>(i)] = std::atan2(e.dot(up0), e.dot(side0));
+  }
+  double turn = 0;
+  for (int i = 0; i < n; ++i) turn += std::remainder(theta[static_cast<size_t>((i + 1) % n)] - theta[static_cast<size_t>(i)], 2 * kPi);
+  const double sense = turn >= 0 ? 1 : -1, step = sense * 2 * kPi / n;
+  double sx = 0, sy = 0;
+  for (int i = 0; i < n; ++i) sx += std::cos(theta[static_cast<size_t>(i)] - step * i), sy += std::sin(theta[static_cast<size_t>(i)] - step * i);
+  const double theta0 = std::atan2(sy, sx);
+  // The axis: from the base centre, its direction turning from `normal` to `dir` (integrated in
+  // small steps of arc length).
+  const double at_base = root / length;
+  auto heading = [&](double s) {
+    return ((1 - smoothstep(0, plan.blend * length, s)) * normal + smoothstep(0, plan.blend * length, s) * dir).normalized();
+  };
+  Vec3 centre = c;
+  double walked = 0;
+  auto walk_to = [&](double s) {
+    constexpr int kSteps = 16;
+    const double h = (s - walked) / kSteps;
+    for (int i = 0; i < kSteps; ++i) centre += h * heading(walked + (i + 0.5) * h);
+    walked = s;
+  };
+  rings.assign(1, base);
+  for (size_t k = 0; k < plan.at.size(); ++k) {
+    const double along = plan.at[k] * length - root;
+    walk_to(along);
+    const Vec3 d = heading(along);
+    const auto [side, up] = frame(d);
+    const double b = smoothstep(at_base, at_base + plan.blend, plan.at[k]);
+    std::vector<int> ring;
+    for (int i = 0; i < n; ++i) {
+      const double a = theta0 + step * i;
+      const Vec3 ellipse = side * (plan.half_width[k] * std::cos(a)) + up * (plan.half_thick[k] * std::sin(a));
+      const Vec3 own = offset[static_cast<size_t>(i)] - offset[static_cast<size_t>(i)].dot(d) * d;
+      ring.push_back(add(centre + (1 - b) * own + b * ellipse));
+    }
+    rings.push_back(std::move(ring));
+  }
+  walk_to(length - root);
+  pole = add(plan.tip ? *plan.tip : centre);
+}
+
+// Emits a digit's faces (strips between its rings, a fan to the pole), outward.
+void emit_digit(Builder& B, const std::vector<std::vector<int>>& rings, int pole) {
+  const auto& r1 = rings[1];
+  const auto& r2 = rings[2];
+  Vec3 c = Vec3::Zero();
+  for (int id : r1) c += B.v[static_cast<size_t>(id)];
+  c /= static_cast<double>(r1.size());
+  const Vec3 &a = B.v[static_cast<size_t>(r1[0])], &b = B.v[static_cast<size_t>(r1[1])], &d = B.v[static_cast<size_t>(r2[1])];
+  const bool flip = (b - a).cross(d - a).dot(a - c) < 0;
+  for (size_t r = 0; r + 1 < rings.size(); ++r) B.strip(rings[r], rings[r + 1], flip);
+  B.fan(rings.back(), pole, flip);
+}
+
+// Emits triangle t facing `outward`.
+void emit_facing(Builder& B, const std::array<int, 3>& t, const Vec3& outward) {
+  const Vec3 &a = B.v[static_cast<size_t>(t[0])], &b = B.v[static_cast<size_t>(t[1])], &c = B.v[static_cast<size_t>(t[2])];
+  B.tri(t[0], t[1], t[2], (b - a).cross(c - a).dot(outward) < 0);
+}
 
 void build(const BodyPlan& P, Builder& B) {
   const int nt = torso_ring_count(), kax = torso_key_ring(kAxilla);
@@ -1072,41 +1296,25 @@ void build(const BodyPlan& P, Builder& B) {
     for (int r = 1; r < na; ++r)
       for (int qq = 0; qq < kArmN; ++qq) {
         if (in_thumb_hole(r, qq, h0)) continue;
-        const Vec3 p = arm_point(P.arm[static_cast<size_t>(r)], arm_angle(qq));
+        const ArmRing& ring = P.arm[static_cast<size_t>(r)];
+        const Vec3 p = arm_point(ring, arm_column_angle(ring, qq));
         A[static_cast<size_t>(r)][static_cast<size_t>(qq)] = B.add(sd == 0 ? p : mirror(p), Part::Arm, sd == 0 ? 1 : -1);
       }
-    const Vec3 tip{P.dactylion_x, P.arm_y, P.arm_z};
-    B.hand_pole[static_cast<size_t>(sd)] = B.add(sd == 0 ? tip : mirror(tip), Part::Pole, sd == 0 ? 1 : -1);
-    // Thumb: loop around the hole, then rings along the thumb axis.
+    // Thumb: grown from the loop around its hole in the palm.
     std::vector<int> loop;
     for (int qq = kThumbQ0; qq < kThumbQ1; ++qq) loop.push_back(A[static_cast<size_t>(h0)][static_cast<size_t>(qq)]);
     for (int a = h0; a < h0 + kThumbRows; ++a) loop.push_back(A[static_cast<size_t>(a)][kThumbQ1]);
     for (int qq = kThumbQ1; qq > kThumbQ0; --qq) loop.push_back(A[static_cast<size_t>(h0 + kThumbRows)][static_cast<size_t>(qq)]);
     for (int a = h0 + kThumbRows; a > h0; --a) loop.push_back(A[static_cast<size_t>(a)][kThumbQ0]);
-    auto& T = B.thumb[static_cast<size_t>(sd)];
-    T.assign(1, loop);
-    Vec3 c0 = Vec3::Zero();
-    for (int id : loop) c0 += sd == 0 ? B.v[static_cast<size_t>(id)] : mirror(B.v[static_cast<size_t>(id)]);
-    c0 /= static_cast<double>(loop.size());
-    const Vec3 dir = Vec3(0.55, -0.12, 0.83).normalized();
-    for (size_t i = 0; i < kThumbU.size(); ++i) {
-      const double u = kThumbU[i];
-      const Vec3 centre = c0 + dir * (P.thumb_len * u);
-      const double tip_f = u < 0.6 ? 1.0 : std::sqrt(std::max(0.0, 1 - std::pow((u - 0.6) / 0.4, 2)));
-      std::vector<int> ring;
-      for (int id : loop) {
-        const Vec3 b = (sd == 0 ? B.v[static_cast<size_t>(id)] : mirror(B.v[static_cast<size_t>(id)])) - c0;
-        Vec3 e = b - b.dot(dir) * dir;
-        const double base_r = e.norm();
-        e /= std::max(1e-9, base_r);
-        const double rad = (i == 0 ? 0.5 * (base_r + P.thumb_r) : P.thumb_r * (1 - 0.15 * u)) * tip_f;
-        const Vec3 p = centre + e * rad;
-        ring.push_back(B.add(sd == 0 ? p : mirror(p), Part::Thumb, sd == 0 ? 1 : -1));
-      }
-      T.push_back(ring);
+    grow_digit(B, sd, loop, P.thumb, B.thumb[static_cast<size_t>(sd)], B.thumb_pole[static_cast<size_t>(sd)]);
+    // Fingers: grown from their arcs of the web ring.
+    const auto& web = A[static_cast<size_t>(na - 1)];
+    for (int f = 0; f < kFingerCount; ++f) {
+      std::vector<int> base;
+      for (int qq : kFingerColumns[static_cast<size_t>(f)]) base.push_back(web[static_cast<size_t>(qq)]);
+      grow_digit(B, sd, base, P.finger[static_cast<size_t>(f)], B.finger[static_cast<size_t>(sd)][static_cast<size_t>(f)],
+                 B.finger_pole[static_cast<size_t>(sd)][static_cast<size_t>(f)]);
     }
-    const Vec3 ttip = c0 + dir * P.thumb_len;
-    B.thumb_pole[static_cast<size_t>(sd)] = B.add(sd == 0 ? ttip : mirror(ttip), Part::Pole, sd == 0 ? 1 : -1);
     if (B.want_topology) {
       const bool flip = sd == 1;
       B.island(kIslandArm + sd);
@@ -1119,10 +1327,19 @@ void build(const BodyPlan& P, Builder& B) {
           B.tri(R0[static_cast<size_t>(qq)], R0[static_cast<size_t>(q1)], R1[static_cast<size_t>(q1)], flip);
           B.tri(R0[static_cast<size_t>(qq)], R1[static_cast<size_t>(q1)], R1[static_cast<size_t>(qq)], flip);
         }
-      B.fan(A.back(), B.hand_pole[static_cast<size_t>(sd)], flip);
       B.island(kIslandThumb + sd);
-      for (size_t r = 0; r + 1 < T.size(); ++r) B.strip(T[r], T[r + 1], flip);
-      B.fan(T.back(), B.thumb_pole[static_cast<size_t>(sd)], flip);
+      emit_digit(B, B.thumb[static_cast<size_t>(sd)], B.thumb_pole[static_cast<size_t>(sd)]);
+      for (int f = 0; f < kFingerCount; ++f) {
+        B.island(kIslandFinger + kFingerCount * sd + f);
+        emit_digit(B, B.finger[static_cast<size_t>(sd)][static_cast<size_t>(f)], B.finger_pole[static_cast<size_t>(sd)][static_cast<size_t>(f)]);
+      }
+      // The webs: one quad between each two neighbouring fingers' arcs, facing the fingertips.
+      B.island(kIslandWeb + sd);
+      for (const auto& quad : kWebQuads) {
+        auto at = [&](int i) { return web[static_cast<size_t>(quad[static_cast<size_t>(i)])]; };
+        emit_facing(B, {at(0), at(1), at(2)}, Vec3(sd == 0 ? 1 : -1, 0, 0));
+        emit_facing(B, {at(0), at(2), at(3)}, Vec3(sd == 0 ? 1 : -1, 0, 0));
+      }
     }
   }
 }
@@ -1175,7 +1392,7 @@ void add_landmarks(Builder& B) {
     L["biceps" + s] = arm(kBiceps, kArmTop);
     L["forearm" + s] = arm(kForearm, kArmTop);
     L["wrist" + s] = arm(kWrist, kArmBottom);
-    L["dactylion" + s] = B.hand_pole[static_cast<size_t>(sd)];
+    L["dactylion" + s] = B.finger_pole[static_cast<size_t>(sd)][kMiddle];
     L["metacarpal" + s] = arm(kKnuckle, kArmFront);
     L["metacarpal_ulnar" + s] = arm(kKnuckle, kArmBack);
   }
@@ -1190,8 +1407,15 @@ namespace {
 // ---- Rig: joint regressor and skinning weights (from the typical neutral body) -------------
 enum J {
   Pelvis, LHip, RHip, Spine1, LKnee, RKnee, Spine2, LAnkle, RAnkle, Spine3, LFoot, RFoot, Neck, LCollar, RCollar,
-  Head, LShoulder, RShoulder, LElbow, RElbow, LWrist, RWrist, LHand, RHand, JointCount
+  Head, LShoulder, RShoulder, LElbow, RElbow, LWrist, RWrist, LHand, RHand, FirstFingerJoint,
+  JointCount = FirstFingerJoint + 30
 };
+// Joint k (0: knuckle … 2: last) of finger f (Finger, or kFingerCount for the thumb) on side sd,
+// in rig_joint_names()'s SMPL-H order (index, middle, pinky, ring, thumb).
+int digit_joint(int sd, int f, int k) {
+  constexpr std::array<int, kFingerCount + 1> kSmplhOrder = {0, 1, 3, 2, 4};  // by Finger, then the thumb
+  return FirstFingerJoint + 15 * sd + 3 * kSmplhOrder[static_cast<size_t>(f)] + k;
+}
 
 using Weights = std::vector<std::pair<int, double>>;  // (vertex or joint, weight)
 
@@ -1257,7 +1481,23 @@ Topology make_topology() {
     add_mean(jr[static_cast<size_t>(shoulder)], A[static_cast<size_t>(arm_key_ring(kDeltoid))], 1.0);
     add_mean(jr[static_cast<size_t>(elbow)], A[static_cast<size_t>(arm_key_ring(kElbow))], 1.0);
     add_mean(jr[static_cast<size_t>(wrist)], A[static_cast<size_t>(arm_key_ring(kWrist))], 1.0);
-    add_mean(jr[static_cast<size_t>(hand)], A[static_cast<size_t>(arm_key_ring(kKnuckle))], 1.0);
+    const auto& knuckles = A[static_cast<size_t>(arm_key_ring(kKnuckle))];
+    add_mean(jr[static_cast<size_t>(hand)], knuckles, 1.0);
+    // Fingers: the knuckle joint under the finger's columns of the knuckle ring, the other two at
+    // their rings. The thumb's first joint sits inside the palm, between its base and the palm's middle.
+    for (int f = 0; f < kFingerCount; ++f) {
+      std::vector<int> under;
+      for (int q : kFingerColumns[static_cast<size_t>(f)]) under.push_back(knuckles[static_cast<size_t>(q)]);
+      const auto& F = B.finger[static_cast<size_t>(sd)][static_cast<size_t>(f)];
+      add_mean(jr[static_cast<size_t>(digit_joint(sd, f, 0))], under, 1.0);
+      add_mean(jr[static_cast<size_t>(digit_joint(sd, f, 1))], F[kPipRing + 1], 1.0);
+      add_mean(jr[static_cast<size_t>(digit_joint(sd, f, 2))], F[kDipRing + 1], 1.0);
+    }
+    const auto& T = B.thumb[static_cast<size_t>(sd)];
+    add_mean(jr[static_cast<size_t>(digit_joint(sd, kFingerCount, 0))], T[0], 0.6);
+    add_mean(jr[static_cast<size_t>(digit_joint(sd, kFingerCount, 0))], A[static_cast<size_t>(arm_key_ring(kPalm) + 1)], 0.4);
+    add_mean(jr[static_cast<size_t>(digit_joint(sd, kFingerCount, 1))], T[kThumbMcpRing + 1], 1.0);
+    add_mean(jr[static_cast<size_t>(digit_joint(sd, kFingerCount, 2))], T[kThumbIpRing + 1], 1.0);
   }
   std::vector<Eigen::Triplet<double>> trip;
   std::array<Vec3, JointCount> joint{};
@@ -1287,6 +1527,21 @@ Topology make_topology() {
     out.push_back({c.joints[seg], 1.0});
   };
   const double sc = joint[Head].y() / 1.55;
+  // Which finger's knuckle each hand vertex follows: the finger above its column of the hand's
+  // rings (the palm from the wrist on), or the finger it belongs to.
+  struct Digit { int finger = -1; };
+  std::vector<Digit> digit(B.v.size());
+  for (int sd = 0; sd < 2; ++sd) {
+    const auto& A = B.arm[static_cast<size_t>(sd)];
+    for (int f = 0; f < kFingerCount; ++f) {
+      for (int q : kFingerColumns[static_cast<size_t>(f)])
+        for (int r = arm_key_ring(kWrist); r < arm_ring_count(); ++r)
+          if (const int id = A[static_cast<size_t>(r)][static_cast<size_t>(q)]; id >= 0) digit[static_cast<size_t>(id)].finger = f;
+      for (const auto& ring : B.finger[static_cast<size_t>(sd)][static_cast<size_t>(f)])
+        for (int id : ring) digit[static_cast<size_t>(id)].finger = f;
+      digit[static_cast<size_t>(B.finger_pole[static_cast<size_t>(sd)][static_cast<size_t>(f)])].finger = f;
+    }
+  }
   std::vector<Weights> vw(B.v.size());
   for (size_t i = 0; i < B.v.size(); ++i) {
     const Vec3& p = B.v[i];
@@ -1314,17 +1569,41 @@ Topology make_topology() {
       }
       continue;
     }
-    if (part == Part::Arm || part == Part::Thumb || (part == Part::Pole && p.y() < joint[Head].y() - 0.1)) {
-      // The thumb moves with the palm.
-      if (part == Part::Thumb || static_cast<int>(i) == B.thumb_pole[0] || static_cast<int>(i) == B.thumb_pole[1]) {
-        w.push_back({wrist, 1.0});
+    if (part == Part::Arm || part == Part::Thumb || part == Part::Finger) {
+      const Digit dg = digit[i];
+      if (part == Part::Thumb) {  // along the thumb from the wrist through its three joints
+        const int sd = left ? 0 : 1;
+        const Vec3& t1 = joint[static_cast<size_t>(digit_joint(sd, kFingerCount, 0))];
+        const Vec3 axis = (joint[static_cast<size_t>(digit_joint(sd, kFingerCount, 2))] - t1).normalized();
+        auto along = [&](int k) { return (joint[static_cast<size_t>(digit_joint(sd, kFingerCount, k))] - t1).dot(axis); };
+        Chain c{{wrist, digit_joint(sd, kFingerCount, 0), digit_joint(sd, kFingerCount, 1), digit_joint(sd, kFingerCount, 2)},
+                {-1e9, 0.0, along(1), along(2)},
+                {0, 0.012 * sc, 0.01 * sc, 0.008 * sc}};
+        chain_weights(c, (p - t1).dot(axis), w);
         continue;
       }
-      Chain c{{collar, shoulder, elbow, wrist, hand},
+      // Arm and palm along the arm; the hand's last stretch (the knuckles onwards) belongs to the
+      // knuckle joint of the finger above it, then along the finger to its other two joints.
+      const int sd = left ? 0 : 1;
+      const int f = dg.finger;
+      const int knuckle = f >= 0 ? digit_joint(sd, f, 0) : hand;
+      Chain c{{collar, shoulder, elbow, wrist, knuckle},
               {-1e9, std::abs(joint[static_cast<size_t>(shoulder)].x()), std::abs(joint[static_cast<size_t>(elbow)].x()),
                std::abs(joint[static_cast<size_t>(wrist)].x()), std::abs(joint[static_cast<size_t>(hand)].x())},
-              {0, 0.04 * sc, 0.05 * sc, 0.025 * sc, 0.02 * sc}};
-      chain_weights(c, ax, w);
+              {0, 0.04 * sc, 0.05 * sc, 0.025 * sc, 0.015 * sc}};
+      Weights arm;
+      chain_weights(c, ax, arm);
+      if (part != Part::Finger) { w = arm; continue; }
+      const Vec3& k1 = joint[static_cast<size_t>(knuckle)];
+      const Vec3 axis = (joint[static_cast<size_t>(digit_joint(sd, f, 2))] - k1).normalized();
+      auto along = [&](int k) { return (joint[static_cast<size_t>(digit_joint(sd, f, k))] - k1).dot(axis); };
+      Chain fc{{knuckle, digit_joint(sd, f, 1), digit_joint(sd, f, 2)}, {-1e9, along(1), along(2)}, {0, 0.01 * sc, 0.008 * sc}};
+      Weights finger;
+      chain_weights(fc, (p - k1).dot(axis), finger);
+      for (auto [j, a] : arm) {
+        if (j != knuckle) { w.push_back({j, a}); continue; }
+        for (auto [jf, af] : finger) w.push_back({jf, a * af});
+      }
       continue;
     }
     // Torso, neck and head.
@@ -1588,8 +1867,10 @@ std::vector<IslandUv> unwrap_stack(const RingStack& S, const Vertices& rest, con
   return out;
 }
 
-// A flat island: the faces' footprint on the floor (x, z).
-IslandUv unwrap_footprint(const Vertices& rest, const std::vector<std::array<int, 3>>& faces, size_t f0, size_t f1) {
+// A flat island: the faces projected on the plane of two axes (the soles' footprint on the floor:
+// x, z; the webs between the fingers: z, y).
+IslandUv unwrap_flat(const Vertices& rest, const std::vector<std::array<int, 3>>& faces, size_t f0, size_t f1,
+                     int axis_u, int axis_v) {
   IslandUv out;
   std::map<int, int> uv_index;
   for (size_t f = f0; f < f1; ++f) {
@@ -1597,7 +1878,7 @@ IslandUv unwrap_footprint(const Vertices& rest, const std::vector<std::array<int
     for (int i = 0; i < 3; ++i) {
       const int id = faces[f][static_cast<size_t>(i)];
       auto [it, fresh] = uv_index.try_emplace(id, static_cast<int>(out.uv.size()));
-      if (fresh) out.uv.emplace_back(rest(id, 0), rest(id, 2));
+      if (fresh) out.uv.emplace_back(rest(id, axis_u), rest(id, axis_v));
       corner[static_cast<size_t>(i)] = it->second;
     }
     out.corners.push_back(corner);
@@ -1637,23 +1918,29 @@ UvLayout uv_layout(const Vertices& rest) {
     } else if (id == kIslandLeg || id == kIslandLeg + 1) {  // front and back, cut at the inseam and outseam
       S = {&B.leg[static_cast<size_t>(id - kIslandLeg)], {kLegLateral, kLegMedial}, -1, true};
       pair = 1;
-    } else if (id == kIslandArm || id == kIslandArm + 1) {  // a sleeve cut under the arm
+    } else if (id == kIslandArm || id == kIslandArm + 1) {  // a sleeve cut under the arm, to the webs
       const int sd = id - kIslandArm;
-      S = {&B.arm[static_cast<size_t>(sd)], {kArmBottom}, B.hand_pole[static_cast<size_t>(sd)], true};
+      S = {&B.arm[static_cast<size_t>(sd)], {kArmBottom}, -1, true};
       pair = 3;
-    } else if (id == kIslandThumb || id == kIslandThumb + 1) {
+    } else if (id == kIslandThumb || id == kIslandThumb + 1) {  // digits: cut along their base loop's first column
       const int sd = id - kIslandThumb;
       S = {&B.thumb[static_cast<size_t>(sd)], {0}, B.thumb_pole[static_cast<size_t>(sd)], true};
       pair = 4;
+    } else if (id >= kIslandFinger && id < kIslandFinger + 2 * kFingerCount) {
+      const int sd = (id - kIslandFinger) / kFingerCount, f = (id - kIslandFinger) % kFingerCount;
+      S = {&B.finger[static_cast<size_t>(sd)][static_cast<size_t>(f)], {0},
+           B.finger_pole[static_cast<size_t>(sd)][static_cast<size_t>(f)], true};
+      pair = 4;  // digits turn together
     } else {
-      pair = 2;  // soles
+      pair = 2;  // soles and webs
     }
     std::vector<IslandUv> parts;
     std::vector<int> part_of;
     if (S.rings) {
       parts = unwrap_stack(S, rest, B.faces, f0, f1, part_of);
     } else {
-      parts = {unwrap_footprint(rest, B.faces, f0, f1)};
+      const bool web = id == kIslandWeb || id == kIslandWeb + 1;
+      parts = {unwrap_flat(rest, B.faces, f0, f1, web ? 2 : 0, web ? 1 : 2)};
       part_of.assign(f1 - f0, 0);
     }
     std::vector<size_t> next(parts.size(), 0);

@@ -224,8 +224,8 @@ BodyModel model_from_population(GeneratedPopulation& pop, Sex sex, const Populat
   d.shape_directions = pca.directions;
   const std::vector<double>& explained = pca.explained;
   d.joint_regressor = topo.joint_regressor;
-  d.joint_names = smpl_joint_names();
-  d.parents = smpl_parents();
+  d.joint_names = rig_joint_names();
+  d.parents = rig_parents();
   d.skin_weights = topo.skin_weights;
   d.landmarks = topo.landmarks;
   d.measurements = measurement_definitions();
@@ -283,7 +283,7 @@ namespace caliper::mannequin {
 
 std::vector<RegionCreaseSurvey> survey_creases(const GeneratedPopulation& pop, int threads) {
   const Topology& topo = topology();
-  const std::vector<std::string>& joints = smpl_joint_names();
+  const std::vector<std::string>& joints = rig_joint_names();
   const std::vector<BodyRegion> regions = vertex_regions(topo.skin_weights, joints);
   const int n = static_cast<int>(pop.bodies.rows());
   std::vector<std::vector<CreaseRegionSummary>> per_body(static_cast<size_t>(n));

@@ -38,8 +38,8 @@ TEST_P(BuiltinModel, CountsAndTopology) {
   const auto m = model(GetParam());
   EXPECT_GE(m->vertex_count(), 7000);
   EXPECT_LE(m->vertex_count(), 15000);
-  EXPECT_EQ(m->joint_count(), 24);
-  EXPECT_EQ(m->data().joint_names, smpl_joint_names());
+  EXPECT_EQ(m->joint_count(), 54);
+  EXPECT_EQ(m->data().joint_names, rig_joint_names());
   // The committed models are built with the documented default K (scripts/build-models.sh).
   EXPECT_EQ(m->shape_count(), mannequin::PopulationOptions{}.components);
   const MeshCheck c = check_mesh(m->faces(), m->vertex_count());

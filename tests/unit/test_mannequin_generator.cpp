@@ -4,6 +4,7 @@
 
 #include "caliper/body/crease.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -31,8 +32,8 @@ BodyModel model_for(const Vertices& v, Sex sex) {
   d.faces = topo.faces;
   d.shape_directions = Eigen::MatrixXd::Zero(3 * v.rows(), 1);
   d.joint_regressor = topo.joint_regressor;
-  d.joint_names = smpl_joint_names();
-  d.parents = smpl_parents();
+  d.joint_names = rig_joint_names();
+  d.parents = rig_parents();
   d.skin_weights = topo.skin_weights;
   d.landmarks = topo.landmarks;
   d.measurements = mq::measurement_definitions();
@@ -124,15 +125,15 @@ TEST(MannequinGenerator, HeightsAreOrdered) {
 
 TEST(MannequinGenerator, RigWeightsAreConvexAndSparse) {
   const auto& topo = mq::topology();
-  ASSERT_EQ(topo.joint_regressor.rows(), 24);
+  ASSERT_EQ(topo.joint_regressor.rows(), 54);
   ASSERT_EQ(topo.skin_weights.rows(), topo.vertex_count);
-  for (int j = 0; j < 24; ++j) {
+  for (int j = 0; j < 54; ++j) {
     double sum = 0;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(topo.joint_regressor, j); it; ++it) {
       EXPECT_GE(it.value(), 0);
       sum += it.value();
     }
-    EXPECT_NEAR(sum, 1.0, 1e-9) << smpl_joint_names()[static_cast<size_t>(j)];
+    EXPECT_NEAR(sum, 1.0, 1e-9) << rig_joint_names()[static_cast<size_t>(j)];
   }
   for (int i = 0; i < topo.vertex_count; ++i) {
     double sum = 0;
@@ -180,6 +181,104 @@ TEST(MannequinGenerator, BendingElbowAndKneeDoesNotExplode) {
     const int head = mq::topology().landmarks.at("vertex");
     EXPECT_LT((posed.row(head) - v.row(head)).norm(), 1e-9);
   }
+}
+
+// The hand has five digits with SMPL-H's three joints each (issue 13): separate fingers in order
+// from the thumb's side, each joint bending its own finger from that joint on and nothing else.
+int joint_named(const BodyModel& model, const std::string& name) {
+  const auto& names = model.data().joint_names;
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+}
+
+TEST(MannequinGenerator, RigHasSmplJointsThenSmplhFingers) {
+  const Vertices v = mq::generate(mq::typical_dimensions(Sex::Female), Sex::Female);
+  const BodyModel model = model_for(v, Sex::Female);
+  ASSERT_EQ(model.joint_count(), 54);
+  for (int j = 0; j < 24; ++j) EXPECT_EQ(model.data().joint_names[static_cast<size_t>(j)], smpl_joint_names()[static_cast<size_t>(j)]);
+  EXPECT_EQ(model.data().joint_names[24], "left_index1");
+  EXPECT_EQ(model.data().joint_names[38], "left_thumb3");
+  EXPECT_EQ(model.data().joint_names[53], "right_thumb3");
+  // Each finger's chain hangs from the hand joint of its side.
+  EXPECT_EQ(model.data().parents[static_cast<size_t>(joint_named(model, "left_middle1"))], joint_named(model, "left_hand"));
+  EXPECT_EQ(model.data().parents[static_cast<size_t>(joint_named(model, "right_thumb1"))], joint_named(model, "right_hand"));
+  EXPECT_EQ(model.data().parents[static_cast<size_t>(joint_named(model, "left_ring3"))], joint_named(model, "left_ring2"));
+}
+
+TEST(MannequinGenerator, FingersAreSeparateAndInAnatomicalOrder) {
+  for (Sex sex : {Sex::Female, Sex::Male}) {
+    const Vertices v = mq::generate(mq::typical_dimensions(sex), sex);
+    const BodyModel model = model_for(v, sex);
+    ASSERT_EQ(model.joint_count(), 54);
+    const Eigen::MatrixX3d j = model.joints(v);
+    auto at = [&](const std::string& name) -> Eigen::Vector3d { return j.row(joint_named(model, name)).transpose(); };
+    for (const char* side : {"left_", "right_"}) {
+      const std::string s = side;
+      // Knuckle to last joint runs out along the arm (±X) on every finger.
+      const double out = s == "left_" ? 1 : -1;
+      for (const char* f : {"index", "middle", "ring", "pinky", "thumb"}) {
+        EXPECT_GT(out * (at(s + f + "2").x() - at(s + f + "1").x()), 0.01) << s << f;
+        EXPECT_GT(out * (at(s + f + "3").x() - at(s + f + "2").x()), 0.01) << s << f;
+      }
+      // Index to little finger from the front (+Z, the thumb's side) backwards, at least a
+      // centimetre apart at the last joints: the fingers are separate, not a mitten.
+      const char* order[] = {"thumb", "index", "middle", "ring", "pinky"};
+      for (int k = 0; k + 1 < 5; ++k)
+        EXPECT_GT(at(s + order[k] + "3").z() - at(s + order[k + 1] + "3").z(), 0.01) << s << order[k];
+      // The middle fingertip is the dactylion, past every other digit.
+      const double tip = v(mq::topology().landmarks.at("dactylion_" + s.substr(0, s.size() - 1)), 0);
+      for (const char* f : {"index", "ring", "pinky", "thumb"}) EXPECT_GT(out * (tip - at(s + f + "3").x()), 0.0) << s << f;
+    }
+  }
+}
+
+TEST(MannequinGenerator, EachFingerJointBendsOnlyItsFinger) {
+  const Vertices v = mq::generate(mq::typical_dimensions(Sex::Male), Sex::Male);
+  const BodyModel model = model_for(v, Sex::Male);
+  const Eigen::MatrixX3d j = model.joints(v);
+  const int middle_tip = mq::topology().landmarks.at("dactylion_left");
+  for (const char* f : {"index", "middle", "ring", "pinky"})
+    for (int k = 1; k <= 3; ++k) {
+      const std::string name = std::string("left_") + f + std::to_string(k);
+      Pose pose = zero_pose(model);
+      pose(joint_named(model, name), 2) = -M_PI / 2;  // flex towards the palm (−Y)
+      const Vertices posed = pose_vertices(model, v, pose);
+      ASSERT_TRUE(posed.allFinite());
+      const Eigen::VectorXd moved = (posed - v).rowwise().norm();
+      // Something moves, by no more than the finger's length swinging through 90°, all of it
+      // beyond the bent joint (less the skinning's blend band), and what moves most (the tip)
+      // goes down towards the palm, not up.
+      const double joint_x = j(joint_named(model, name), 0);
+      Eigen::Index farthest = 0;
+      EXPECT_GT(moved.maxCoeff(&farthest), 0.005) << name;
+      EXPECT_LT(moved.maxCoeff(), 0.15) << name;
+      EXPECT_LT(posed(farthest, 1), v(farthest, 1) - 0.004) << name;
+      for (Eigen::Index i = 0; i < v.rows(); ++i)
+        if (moved(i) > 1e-4) EXPECT_GT(v(i, 0), joint_x - 0.02) << name << " moved vertex " << i;
+      // Bending another finger leaves the middle fingertip where it was.
+      if (std::string(f) != "middle") EXPECT_LT(moved(middle_tip), 1e-9) << name;
+      else EXPECT_GT(moved(middle_tip), 0.01) << name;
+    }
+}
+
+TEST(MannequinGenerator, FistPoseClosesBothHands) {
+  const Vertices v = mq::generate(mq::typical_dimensions(Sex::Female), Sex::Female);
+  const BodyModel model = model_for(v, Sex::Female);
+  const Vertices posed = pose_vertices(model, v, fist_pose(model));
+  ASSERT_TRUE(posed.allFinite());
+  const Eigen::MatrixX3d j = model.joints(v);
+  for (const char* side : {"left", "right"}) {
+    const Eigen::Vector3d wrist = j.row(joint_named(model, std::string(side) + "_wrist")).transpose();
+    const int tip = mq::topology().landmarks.at(std::string("dactylion_") + side);
+    // The middle fingertip comes back towards the wrist (a closed hand is shorter than an open
+    // one by well over a third) and ends below the back of the hand.
+    const double open = (v.row(tip).transpose() - wrist).norm(), closed = (posed.row(tip).transpose() - wrist).norm();
+    EXPECT_LT(closed, 0.65 * open) << side;
+    EXPECT_LT(posed(tip, 1), v(tip, 1) - 0.01) << side;
+  }
+  // Nothing but the hands moves.
+  EXPECT_LT((posed.row(mq::topology().landmarks.at("vertex")) - v.row(mq::topology().landmarks.at("vertex"))).norm(), 1e-12);
+  EXPECT_LT((posed.row(mq::topology().landmarks.at("stylion_left")) - v.row(mq::topology().landmarks.at("stylion_left"))).norm(), 1e-12);
 }
 
 // The stride pose (docs/images/mannequin-posed.png) bends the joints the way its name says, and
@@ -253,7 +352,7 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
   if (!std::filesystem::exists(dir + "ANSUR_II_FEMALE_dev.csv"))
     GTEST_SKIP() << "ANSUR II data not found in " << dir << " (needs ../shared next to the repo)";
   const auto targets = mq::fidelity_targets();
-  const auto regions = vertex_regions(mq::topology().skin_weights, smpl_joint_names());
+  const auto regions = vertex_regions(mq::topology().skin_weights, rig_joint_names());
   // CALIPER_EVERY_SUBJECT=1 checks all 4,552 (about 4 minutes), as docs/mannequin.md reports.
   const bool every_subject = std::getenv("CALIPER_EVERY_SUBJECT") != nullptr;
   int bodies = 0, unusual_bodies = 0;

@@ -27,9 +27,18 @@ struct WeightFromVolume {
   static WeightFromVolume paper(Sex sex);  // female 1001.44/−2.36, male 1056.44/−5.28, neutral their mean
 };
 
-// The 24 joints of SMPL, in SMPL's order. Our own models use these names and this order.
+// The 24 joints of SMPL, in SMPL's order.
 const std::vector<std::string>& smpl_joint_names();
 const std::vector<int>& smpl_parents();  // parent index per joint, −1 for the root (pelvis)
+// SMPL-H's 30 finger joints in SMPL-H's order: left_index1…3, left_middle1…3, left_pinky1…3,
+// left_ring1…3, left_thumb1…3, then the same for the right hand (1: knuckle, 3: last joint).
+const std::vector<std::string>& finger_joint_names();
+// The built-in body's rig: SMPL's 24 joints (names and order kept, so SMPL poses drive it)
+// followed by the 30 finger joints. Each finger's first joint hangs from SMPL's hand joint, so a
+// pose that bends left_hand curls the whole hand, and SMPL-H hand poses (relative to the wrist;
+// they leave the hand joint at rest) drive each finger.
+const std::vector<std::string>& rig_joint_names();
+const std::vector<int>& rig_parents();
 
 struct BodyModelData {
   std::string name;                    // e.g. "mannequin-female"

@@ -20,6 +20,12 @@ Pose a_pose(const BodyModel& model, double degrees = 45.0);
 // lowered with the elbows bent. Joints the model lacks (by SMPL name) are left at rest.
 Pose stride_pose(const BodyModel& model);
 
+// Both hands closed into fists, the rest of the body at rest: every finger joint flexed towards
+// the palm (knuckles 80°, middle joints 95°, last joints 60°) and the thumb folded across, for a
+// model whose rest pose has the palms down and the thumbs forward (ours, SMPL's). A model without
+// finger joints (SMPL, the MakeHuman body) bends its hand joints instead (SMPL's hand joint
+// carries the fingers). Add it to another pose's rows for fists in that pose.
+Pose fist_pose(const BodyModel& model);
 // World transforms of every joint for a pose, given rest joints (J×3). 4×4 each.
 std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model,
                                                     const Eigen::MatrixX3d& rest_joints,
