@@ -98,6 +98,7 @@ void register_render(CLI::App& app) {
   auto height = std::make_shared<int>(800);
   auto mesh_file = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>("t");
+  auto pose_file = std::make_shared<std::string>();
   auto heat = std::make_shared<bool>(false);
   auto checker = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand("render", "Render an avatar (or an OBJ mesh) to a PNG picture, several views side by side");
@@ -105,11 +106,16 @@ void register_render(CLI::App& app) {
   cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
   cmd->add_option("-o,--output", *output, "output PNG file (.png)")->required();
   cmd->add_option("--views", *views, "views: front, side, back, three-quarter")->delimiter(',')->capture_default_str();
-  cmd->add_option("--pose", *pose,
+  CLI::Option* pose_option = cmd->add_option("--pose", *pose,
                   "t (rest pose, arms horizontal), a (arms lowered 45°), stride (mid-stride, knees and elbows bent) or "
                   "fist (arms lowered 45°, hands closed); a, stride and fist are posed by the rig's skinning")
       ->check(CLI::IsMember({"t", "a", "stride", "fist"}))
       ->capture_default_str();
+  cmd->add_option("--pose-file", *pose_file,
+                  "pose the body with SMPL-family axis-angle values (radians) from a JSON file instead of --pose: an "
+                  "array (or {\"pose\": array}) of 72 numbers (SMPL), 156 (SMPL-H, with fingers) or 162 (Caliper's "
+                  "rig), or of [x, y, z] triples; see docs/cli.md")
+      ->excludes(pose_option);
   cmd->add_flag("--uncertainty", *heat,
                 "colour the body by the per-vertex SD of --regressor map (blue: certain, red: the body's largest SD)");
   cmd->add_flag("--uv-checker", *checker,
@@ -165,7 +171,8 @@ void register_render(CLI::App& app) {
         ro.uv_faces = model.data().uv_faces;
       }
       const Vertices& rest = built.avatar.rest_vertices;
-      const Vertices shown = *pose == "a"        ? pose_vertices(model, rest, a_pose(model))
+      const Vertices shown = !pose_file->empty()  ? pose_vertices(model, rest, load_pose(model, *pose_file))
+                             : *pose == "a"        ? pose_vertices(model, rest, a_pose(model))
                              : *pose == "stride" ? pose_vertices(model, rest, stride_pose(model))
                              : *pose == "fist"   ? pose_vertices(model, rest, a_pose(model) + fist_pose(model))
                                                  : rest;

@@ -3,8 +3,11 @@
 #include "caliper/body/pose.h"
 
 #include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "caliper/errors.h"
+#include "json_read.h"
 
 namespace caliper {
 
@@ -81,6 +84,79 @@ Pose fist_pose(const BodyModel& model) {
       if (const int j = joint_index(model, std::string(side) + "_hand"); j >= 0)
         pose.row(j) = ((side[0] == 'l' ? finger_axis : mirrored(finger_axis)) * kFinger[0]).transpose();
   return pose;
+}
+
+namespace {
+
+// The joint names a count of axis-angle values stands for (see pose_from_axis_angles).
+std::vector<std::string> names_for_values(const BodyModel& model, size_t count) {
+  if (count == 72) return smpl_joint_names();
+  if (count == 156) {
+    std::vector<std::string> names(smpl_joint_names().begin(), smpl_joint_names().begin() + 22);
+    names.insert(names.end(), finger_joint_names().begin(), finger_joint_names().end());
+    return names;
+  }
+  if (count == 3 * rig_joint_names().size()) return rig_joint_names();
+  if (count == 3 * static_cast<size_t>(model.joint_count())) return model.data().joint_names;
+  const size_t own = 3 * static_cast<size_t>(model.joint_count());
+  const bool listed = own == 72 || own == 156 || own == 3 * rig_joint_names().size();
+  throw Error(ErrorKind::InvalidArgument,
+              "pose has " + std::to_string(count) + " values; expected 72 (SMPL), 156 (SMPL-H) or 162 (Caliper's rig)" +
+                  (listed ? "" : " or " + std::to_string(own) + " (3 per joint of '" + model.name() + "')") +
+                  ", axis-angle radians",
+              "pose");
+}
+
+}  // namespace
+
+Pose pose_from_axis_angles(const BodyModel& model, const std::vector<double>& values) {
+  const std::vector<std::string> names = names_for_values(model, values.size());
+  Pose pose = zero_pose(model);
+  for (size_t i = 0; i < names.size(); ++i) {
+    const Eigen::Vector3d r(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
+    if (!r.allFinite())
+      throw Error(ErrorKind::InvalidArgument, "pose value for joint '" + names[i] + "' is not a finite number", "pose");
+    if (const int j = joint_index(model, names[i]); j >= 0) pose.row(j) = r.transpose();
+  }
+  return pose;
+}
+
+Pose pose_from_json(const BodyModel& model, const std::string& text, const std::string& source) {
+  constexpr size_t kMaxBytes = 1 << 20;
+  const detail::JsonPlace doc{source, ""};
+  if (text.size() > kMaxBytes) doc.fail("larger than 1 MiB; a pose is at most a few hundred numbers");
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) doc.fail("not valid JSON");
+  const nlohmann::json* values = &j;
+  detail::JsonPlace place = doc;
+  if (j.is_object()) {
+    const char* key = j.contains("pose") ? "pose" : "poses";
+    place = doc / key;
+    values = &detail::json_require(j, key, doc);
+  }
+  if (!values->is_array()) place.fail("must be an array of axis-angle numbers (radians) or of [x, y, z] triples");
+  if (values->size() > 3 * 1000) place.fail("has " + std::to_string(values->size()) + " entries; a pose has at most a few hundred");
+  std::vector<double> flat;
+  for (size_t i = 0; i < values->size(); ++i) {
+    const nlohmann::json& v = (*values)[i];
+    const detail::JsonPlace at = place / std::to_string(i);
+    if (v.is_array()) {
+      if (v.size() != 3) at.fail("a joint's rotation must be 3 numbers [x, y, z]");
+      for (size_t k = 0; k < 3; ++k) flat.push_back(detail::json_number(v[k], at / std::to_string(k)));
+    } else {
+      flat.push_back(detail::json_number(v, at));
+    }
+  }
+  return pose_from_axis_angles(model, flat);
+}
+
+Pose load_pose(const BodyModel& model, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorKind::Io, "cannot open pose file '" + path + "'", path);
+  std::string text(1 << 20 | 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<size_t>(in.gcount()));
+  return pose_from_json(model, text, path);
 }
 
 std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model, const Eigen::MatrixX3d& rest_joints,

@@ -17,6 +17,7 @@
 #include "caliper/mannequin/generator.h"
 #include "caliper/measure/geometry.h"
 #include "caliper/measure/measure.h"
+#include "fixtures.h"
 
 using namespace caliper;
 namespace mq = caliper::mannequin;
@@ -279,6 +280,69 @@ TEST(MannequinGenerator, FistPoseClosesBothHands) {
   // Nothing but the hands moves.
   EXPECT_LT((posed.row(mq::topology().landmarks.at("vertex")) - v.row(mq::topology().landmarks.at("vertex"))).norm(), 1e-12);
   EXPECT_LT((posed.row(mq::topology().landmarks.at("stylion_left")) - v.row(mq::topology().landmarks.at("stylion_left"))).norm(), 1e-12);
+}
+
+// SMPL and SMPL-H pose data drive the rig by joint name (issue 13): SMPL's 72 values and SMPL-H's
+// 156 land on the joints they name; a model without fingers drops SMPL-H's finger values.
+TEST(PoseFromValues, SmplAndSmplhValuesLandOnTheirJoints) {
+  const Vertices v = mq::generate(mq::typical_dimensions(Sex::Female), Sex::Female);
+  const BodyModel model = model_for(v, Sex::Female);
+  std::vector<double> smpl(72, 0.0);
+  smpl[16 * 3 + 2] = -0.7;  // SMPL joint 16: left_shoulder
+  smpl[21 * 3 + 1] = 0.4;   // 21: right_wrist
+  const Pose a = pose_from_axis_angles(model, smpl);
+  EXPECT_DOUBLE_EQ(a(joint_named(model, "left_shoulder"), 2), -0.7);
+  EXPECT_DOUBLE_EQ(a(joint_named(model, "right_wrist"), 1), 0.4);
+  EXPECT_DOUBLE_EQ(a.cwiseAbs().sum(), 1.1);
+  std::vector<double> smplh(156, 0.0);
+  smplh[18 * 3 + 1] = 0.5;   // left_elbow, as in SMPL
+  smplh[22 * 3 + 2] = -1.0;  // SMPL-H joint 22: left_index1 (no hand joints in SMPL-H)
+  smplh[51 * 3 + 0] = 0.3;   // 51: right_thumb3
+  const Pose h = pose_from_axis_angles(model, smplh);
+  EXPECT_DOUBLE_EQ(h(joint_named(model, "left_elbow"), 1), 0.5);
+  EXPECT_DOUBLE_EQ(h(joint_named(model, "left_index1"), 2), -1.0);
+  EXPECT_DOUBLE_EQ(h(joint_named(model, "right_thumb3"), 0), 0.3);
+  EXPECT_DOUBLE_EQ(h(joint_named(model, "left_hand"), 2), 0.0);
+  EXPECT_DOUBLE_EQ(h.cwiseAbs().sum(), 1.8);
+  // The index finger bends, the middle fingertip stays.
+  const Vertices posed = pose_vertices(model, v, h);
+  const int middle_tip = mq::topology().landmarks.at("dactylion_left");
+  EXPECT_LT((posed.row(middle_tip) - v.row(middle_tip)).norm(), 0.2);  // moved only by the elbow
+  // On a model without finger joints the finger values are dropped, the body's kept.
+  const BodyModel toy = test::toy_model();
+  const Pose t = pose_from_axis_angles(toy, smplh);
+  ASSERT_EQ(t.rows(), 24);
+  EXPECT_DOUBLE_EQ(t(18, 1), 0.5);
+  EXPECT_DOUBLE_EQ(t.cwiseAbs().sum(), 0.5);
+}
+
+TEST(PoseFromValues, BadValuesAndDocumentsAreRefusedNamingThePose) {
+  const Vertices v = mq::generate(mq::typical_dimensions(Sex::Male), Sex::Male);
+  const BodyModel model = model_for(v, Sex::Male);
+  Error e = test::catch_error([&] { pose_from_axis_angles(model, std::vector<double>(10, 0.0)); });
+  EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
+  EXPECT_EQ(e.field(), "pose");
+  EXPECT_NE(std::string(e.what()).find("72 (SMPL)"), std::string::npos) << e.what();
+  std::vector<double> nan(72, 0.0);
+  nan[40] = std::nan("");
+  EXPECT_EQ(test::catch_error([&] { pose_from_axis_angles(model, nan); }).kind(), ErrorKind::InvalidArgument);
+  // JSON: an array, triples, or an object's "pose" / "poses".
+  std::string flat = "[";
+  for (int i = 0; i < 72; ++i) flat += (i ? "," : "") + std::string(i == 50 ? "0.25" : "0");
+  flat += "]";
+  EXPECT_DOUBLE_EQ(pose_from_json(model, flat, "flat")(16, 2), 0.25);
+  EXPECT_DOUBLE_EQ(pose_from_json(model, "{\"pose\": " + flat + "}", "object")(16, 2), 0.25);
+  std::string triples = "{\"poses\": [";
+  for (int i = 0; i < 24; ++i) triples += std::string(i ? "," : "") + (i == 16 ? "[0, 0, 0.25]" : "[0, 0, 0]");
+  triples += "]}";
+  EXPECT_DOUBLE_EQ(pose_from_json(model, triples, "triples")(16, 2), 0.25);
+  for (const std::string bad : {"[1, 2", "{\"pose\": [1, \"a\"]}", "{\"pose\": 3}", "{}", "[[1, 2]]", "\"\xff\""}) {
+    e = test::catch_error([&] { pose_from_json(model, bad, "bad.json"); });
+    EXPECT_EQ(e.kind(), ErrorKind::Format) << bad;
+    EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(test::catch_error([&] { pose_from_json(model, std::string(2 << 20, ' '), "big.json"); }).kind(), ErrorKind::Format);
+  EXPECT_EQ(test::catch_error([&] { load_pose(model, "/nonexistent/pose.json"); }).kind(), ErrorKind::Io);
 }
 
 // The stride pose (docs/images/mannequin-posed.png) bends the joints the way its name says, and

@@ -26,6 +26,19 @@ Pose stride_pose(const BodyModel& model);
 // finger joints (SMPL, the MakeHuman body) bends its hand joints instead (SMPL's hand joint
 // carries the fingers). Add it to another pose's rows for fists in that pose.
 Pose fist_pose(const BodyModel& model);
+// A pose given as SMPL-family axis-angle values (radians, three per joint), put on the model's
+// joints by name: 72 values are SMPL's 24 joints, 156 SMPL-H's 52 (SMPL's first 22, then the 30
+// finger joints; SMPL-H has no hand joints), 162 the built-in rig's 54 (rig_joint_names()), and
+// otherwise 3·J values are the model's own joints in its order. Joints the values do not cover
+// stay at rest; values for joints the model lacks (fingers on the MakeHuman body) are dropped.
+// Throws Error(InvalidArgument, field "pose") for another count or a non-finite value.
+Pose pose_from_axis_angles(const BodyModel& model, const std::vector<double>& values);
+// The same from a JSON document: an array of numbers, an array of [x, y, z] triples, or an object
+// whose "pose" member is either (AMASS's "poses" name is accepted too). At most 1 MiB. Throws
+// Error(Format) naming `source` and what is wrong, Error(InvalidArgument) as above.
+Pose pose_from_json(const BodyModel& model, const std::string& text, const std::string& source);
+// Reads `path` (at most 1 MiB) and parses it with pose_from_json; Error(Io) if it cannot be read.
+Pose load_pose(const BodyModel& model, const std::string& path);
 // World transforms of every joint for a pose, given rest joints (J×3). 4×4 each.
 std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model,
                                                     const Eigen::MatrixX3d& rest_joints,
