@@ -117,7 +117,7 @@ constexpr std::array<std::array<int, 4>, kFingerCount - 1> kWebQuads = {{{24, 23
 constexpr std::array<double, 15> kFingerM = {0.22, 0.29, 0.36, 0.42, 0.48, 0.54, 0.61, 0.68, 0.74, 0.78, 0.83, 0.89, 0.94, 0.975, 0.995};
 constexpr int kPipRing = 4, kDipRing = 9;  // indices into kFingerM
 // Thumb rings at fractions of its length from the palm; joints 2 and 3 at kThumbU[4] and [8].
-constexpr std::array<double, 14> kThumbU = {0.1, 0.2, 0.3, 0.37, 0.42, 0.48, 0.56, 0.64, 0.72, 0.8, 0.87, 0.93, 0.97, 0.993};
+constexpr std::array<double, 14> kThumbU = {0.15, 0.23, 0.31, 0.37, 0.42, 0.48, 0.56, 0.64, 0.72, 0.8, 0.87, 0.93, 0.97, 0.993};
 constexpr int kThumbMcpRing = 4, kThumbIpRing = 8;
 
 int torso_key_ring(int key) {
