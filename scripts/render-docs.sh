@@ -17,3 +17,28 @@ $c render --sex female --beta 0 -o docs/images/mannequin-posed.png --pose stride
 # The UV layout: the atlas, and the mean female painted with a checker through it.
 $c model uv-atlas mannequin --sex female --size 1024 -o docs/images/uv-atlas-female.png
 $c render --sex female --beta 0 --uv-checker -o docs/images/uv-checker-female.png "${size[@]}"
+# Hands (issue 13): the open hand and the fist, close up; the body posed with fists.
+$c render --sex female --beta 0 --focus left_middle1 --focus-radius 12 --views front,side,three-quarter \
+  -o docs/images/mannequin-hand.png --image-width 480 --image-height 400
+$c render --sex male --beta 0 --pose fist --focus left_middle1 --focus-radius 11 --views side,three-quarter \
+  -o docs/images/mannequin-fist.png --image-width 480 --image-height 400
+$c render --sex female --beta 0 --focus head --views front,side,three-quarter \
+  -o docs/images/mannequin-head.png --image-width 420 --image-height 480
+# A heavy man (BMI 35: 178 cm, 111 kg).
+$c render --sex male --height 178 --weight 111 -o docs/images/mannequin-heavy-man.png "${size[@]}"
+# Beside the MakeHuman body at the same measurements, when MakeHuman's assets are beside the
+# project (the MakeHuman model is built into build/, never committed; docs/makehuman.md).
+mh_assets=../shared/data/makehuman
+if [ -d "$mh_assets" ]; then
+  for sex in female male; do
+    mh=build/makehuman-$sex.npz
+    [ -f "$mh" ] || $c model build makehuman --assets "$mh_assets" --sex "$sex" -o "$mh" >/dev/null
+    if [ "$sex" = female ]; then m=(--height 165 --weight 62); else m=(--height 178 --weight 82); fi
+    $c render --model "$mh" --sex "$sex" "${m[@]}" -o "docs/images/makehuman-$sex.png" --views front,side --pose a \
+      --image-width 420 --image-height 700
+    $c render --sex "$sex" "${m[@]}" -o "docs/images/makehuman-mannequin-$sex.png" --views front,side --pose a \
+      --image-width 420 --image-height 700
+  done
+else
+  echo "render-docs: $mh_assets not found; the MakeHuman comparison pictures are left as they are" >&2
+fi
