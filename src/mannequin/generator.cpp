@@ -264,11 +264,16 @@ double fit_torso_ring(TorsoRing& r, double breadth, double depth, double front_f
 
 struct LegRing {
   double y = 0, xc = 0.1, zc = 0, al = 0.06, am = 0.06, bf = 0.06, bb = 0.06, p = 2.2, calf = 0;
+  // Feet only: the front half's exponent (0: p), and how far the front's lateral corner falls
+  // back (the toes' line slants from the big toe to the little one).
+  double p_front = 0, toe_slant = 0;
 };
 Eigen::Vector2d leg_xz(const LegRing& r, double phi) {  // left leg: lateral = +X
-  const double s = std::sin(phi), c = std::cos(phi), e = 2.0 / r.p;
+  const double s = std::sin(phi), c = std::cos(phi);
+  const double e = 2.0 / (c > 0 && r.p_front > 0 ? r.p_front : r.p);
   double x = r.xc + (s >= 0 ? r.al : r.am) * spow(s, e);
   double z = r.zc + (c >= 0 ? r.bf : r.bb) * spow(c, e);
+  if (c > 0 && s > 0) z -= r.toe_slant * c * c * s;
   if (r.calf != 0) z -= r.calf * std::exp(-std::pow((std::abs(std::remainder(phi, 2 * kPi)) - kPi) / 0.9, 2));
   return {x, z};
 }
@@ -963,7 +968,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     P.toe_z = P.heel_z + fl;
     const LegRing& m = L[kMalleolus];
     const int kf0 = leg_key_ring(kMalleolus) + 1;
-    const MonotoneCurve instep({0.0, 0.12, 0.3, 0.45, 0.6, 0.8, 1.0}, {1.0, 1.0, 0.96, 0.8, 0.6, 0.3, 0.0});
+    // The top of the foot in profile: the toes a low slab (about a fifth of the malleolus height at
+    // the tip), the dorsum rising from the ball to the front of the ankle.
+    const MonotoneCurve instep({0.0, 0.12, 0.18, 0.29, 0.42, 0.58, 0.78, 1.0}, {1.0, 1.0, 0.98, 0.86, 0.66, 0.4, 0.15, 0.0});
     for (size_t i = 0; i <= kFootLevels.size(); ++i) {
       const double f = i < kFootLevels.size() ? kFootLevels[i] : 0.0;
       const double yy = f * y_ml;
@@ -984,6 +991,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       r.am = std::lerp(m.am, fb * 0.48, std::pow(u, 1.3));
       r.xc = m.xc + std::lerp(0.0, 0.004, u);
       r.p = std::lerp(2.2, 2.6, u);
+      // Towards the sole the front squares off (the toes' broad front) and slants back laterally.
+      r.p_front = std::lerp(2.2, 3.4, u * u);
+      r.toe_slant = 0.12 * fl * u * u;
       if (i == kFootLevels.size()) {  // the sole: a little inside the ring above, on the floor
         const LegRing& up = P.leg[static_cast<size_t>(kf0 + static_cast<int>(i) - 1)];
         r = up;
