@@ -1,4 +1,6 @@
 // `caliper avatar` and `caliper render`: build an avatar from measurements and write it out.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -90,6 +92,39 @@ void register_avatar(CLI::App& app) {
   });
 }
 
+// Frames a close-up of the part of `shown` (posed vertices) that joint `name` moves: the vertices
+// whose largest skinning weight is that joint, centred on their bounding box, radius their
+// bounding sphere (at least 5 cm) unless `radius` (metres) > 0.
+void frame_joint(const BodyModel& model, const Vertices& shown, const std::string& name, double radius,
+                 RenderOptions& ro) {
+  const auto& names = model.data().joint_names;
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) {
+    std::string known;
+    for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
+    throw Error(ErrorKind::InvalidArgument, "--focus: model '" + model.name() + "' has no joint '" + name + "' (" + known + ")",
+                "--focus");
+  }
+  const int joint = static_cast<int>(it - names.begin());
+  const auto& w = model.data().skin_weights;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  int count = 0;
+  for (Eigen::Index v = 0; v < w.rows(); ++v) {
+    int best = -1;
+    double best_w = -1;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator e(w, v); e; ++e)
+      if (e.value() > best_w) { best_w = e.value(); best = static_cast<int>(e.col()); }
+    if (best != joint) continue;
+    lo = lo.cwiseMin(shown.row(v).transpose());
+    hi = hi.cwiseMax(shown.row(v).transpose());
+    ++count;
+  }
+  if (count == 0) throw Error(ErrorKind::InvalidArgument, "--focus: joint '" + name + "' moves no vertex most", "--focus");
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  for (int c = 0; c < 3; ++c) ro.focus_center[static_cast<size_t>(c)] = centre(c);
+  ro.focus_radius = radius > 0 ? radius : std::max(0.05, 0.5 * (hi - lo).norm());
+}
+
 void register_render(CLI::App& app) {
   auto opts = std::make_shared<BodyOptions>();
   auto output = std::make_shared<std::string>();
@@ -100,6 +135,8 @@ void register_render(CLI::App& app) {
   auto pose = std::make_shared<std::string>("t");
   auto heat = std::make_shared<bool>(false);
   auto checker = std::make_shared<bool>(false);
+  auto focus = std::make_shared<std::string>();
+  auto focus_radius_cm = std::make_shared<double>(0.0);
   CLI::App* cmd = app.add_subcommand("render", "Render an avatar (or an OBJ mesh) to a PNG picture, several views side by side");
   add_body_options(*cmd, *opts, true);
   cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
@@ -114,6 +151,11 @@ void register_render(CLI::App& app) {
                 "colour the body by the per-vertex SD of --regressor map (blue: certain, red: the body's largest SD)");
   cmd->add_flag("--uv-checker", *checker,
                 "paint the body with a checker texture through the model's UV layout (or the OBJ's texture coordinates)");
+  cmd->add_option("--focus", *focus,
+                  "close-up of the body part a joint moves, by the model's joint name (head, neck, left_wrist, "
+                  "right_knee, ...): framed on the vertices that joint moves most, in the pose drawn");
+  cmd->add_option("--focus-radius", *focus_radius_cm,
+                  "with --focus: radius of the framed sphere, cm (default: the part's own size, e.g. the head's)");
   cmd->add_option("--image-width", *width, "width of each view in pixels (64–4096)")->capture_default_str();
   cmd->add_option("--image-height", *height, "height of each view in pixels (64–4096)")->capture_default_str();
   cmd->callback([=] {
@@ -132,8 +174,14 @@ void register_render(CLI::App& app) {
     RenderOptions ro;
     ro.width = *width;
     ro.height = *height;
+    if (!(std::isfinite(*focus_radius_cm) && *focus_radius_cm >= 0 && *focus_radius_cm <= 500))
+      throw Error(ErrorKind::OutOfRange, "--focus-radius must be in [0, 500] cm", "--focus-radius");
+    if (*focus_radius_cm > 0 && focus->empty())
+      throw Error(ErrorKind::InvalidArgument, "--focus-radius needs --focus JOINT", "--focus-radius");
     if (!mesh_file->empty()) {
       // The file is drawn as it is: options that shape or pose an avatar would be ignored.
+      if (!focus->empty())
+        throw Error(ErrorKind::InvalidArgument, "--focus needs a model's joints; an OBJ file has none", "--focus");
       if (*pose != "t" || *heat || !opts->values.empty() || !opts->extra.empty() || !opts->beta.empty() ||
           !opts->measurements_file.empty())
         throw Error(ErrorKind::InvalidArgument,
@@ -168,6 +216,7 @@ void register_render(CLI::App& app) {
       const Vertices shown = *pose == "a"        ? pose_vertices(model, rest, a_pose(model))
                              : *pose == "stride" ? pose_vertices(model, rest, stride_pose(model))
                                                  : rest;
+      if (!focus->empty()) frame_joint(model, shown, *focus, *focus_radius_cm / 100.0, ro);
       write_file(*output, render_views_png(shown, built.model->faces(), vs, ro));
     }
     std::cout << "wrote " << *output << "\n";

@@ -182,6 +182,10 @@ Scene make_scene(const Vertices& vertices, const Faces& faces, const RenderOptio
   if (vertices.rows() == 0) throw Error(ErrorKind::InvalidArgument, "cannot render an empty mesh: no vertices", "vertices");
   if (faces.rows() == 0) throw Error(ErrorKind::InvalidArgument, "cannot render an empty mesh: no faces", "faces");
   if (!vertices.allFinite()) throw Error(ErrorKind::InvalidArgument, "vertices contain NaN or infinite values", "vertices");
+  if (!(std::isfinite(o.focus_radius) && o.focus_radius >= 0))
+    throw Error(ErrorKind::InvalidArgument, "focus_radius must be a finite length >= 0 (metres)", "focus_radius");
+  for (double c : o.focus_center)
+    if (!std::isfinite(c)) throw Error(ErrorKind::InvalidArgument, "focus_center must be finite", "focus_center");
   if (faces.minCoeff() < 0 || faces.maxCoeff() >= vertices.rows())
     throw Error(ErrorKind::InvalidArgument, "face index out of range [0, " + std::to_string(vertices.rows()) + ")", "faces");
   if (o.width < 1 || o.height < 1 || o.width > kMaxSide || o.height > kMaxSide)
@@ -328,6 +332,24 @@ void apply_scale(const Scene& s, Camera& c, double scale, double aspect) {
     c.eye = s.target - c.forward * (far + 1.0);
   } else {
     c.eye = s.target - c.forward * scale;
+  }
+}
+
+// A close-up: the camera looks at the focus point from far enough that a sphere of the focus
+// radius fills kFill of the frame's smaller half-extent; no recentring.
+void frame_close_up(const Scene& s, Camera& c, const RenderOptions& o, double aspect) {
+  const Vec3 centre(o.focus_center[0], o.focus_center[1], o.focus_center[2]);
+  const double r = o.focus_radius / kFill;
+  if (c.ortho) {
+    c.half_y = r / std::min(1.0, aspect);
+    c.half_x = c.half_y * aspect;
+    const Vertices& v = *s.vertices;
+    double far = 0;
+    for (Eigen::Index i = 0; i < v.rows(); ++i) far = std::max(far, (v.row(i).transpose() - centre).norm());
+    c.eye = centre - c.forward * (far + 1.0);
+  } else {
+    const double t = std::min(c.tan_x, c.tan_y);  // the sphere's tangent cone fits the frame
+    c.eye = centre - c.forward * (r * std::sqrt(1 + t * t) / t);
   }
 }
 
@@ -544,22 +566,25 @@ std::string render_impl(const Vertices& vertices, const Faces& faces, const std:
     cams.push_back(orient(s, view, o));
     scale = std::max(scale, fit_scale(s, cams.back(), aspect));
   }
-  // One scale for all; centre each view horizontally on its own, but share the vertical shift
-  // so the floor lines up across panels.
-  double ylo = 1e300, yhi = -1e300;
-  for (Camera& c : cams) {
-    apply_scale(s, c, scale, aspect);
-    const auto b = ndc_bounds(s, c);
-    c.shift_x = -(b[0] + b[1]) / 2;
-    ylo = std::min(ylo, b[2]);
-    yhi = std::max(yhi, b[3]);
+  if (o.focus_radius > 0) {
+    for (Camera& c : cams) frame_close_up(s, c, o, aspect);
+  } else {
+    // One scale for all; centre each view horizontally on its own, but share the vertical shift
+    // so the floor lines up across panels.
+    double ylo = 1e300, yhi = -1e300;
+    for (Camera& c : cams) {
+      apply_scale(s, c, scale, aspect);
+      const auto b = ndc_bounds(s, c);
+      c.shift_x = -(b[0] + b[1]) / 2;
+      ylo = std::min(ylo, b[2]);
+      yhi = std::max(yhi, b[3]);
+    }
+    for (Camera& c : cams) c.shift_y = -(ylo + yhi) / 2;
   }
-  for (Camera& c : cams) {
-    c.shift_y = -(ylo + yhi) / 2;
-    // The floor shadow falls from a high light on the key light's side, so it shows beside
-    // and behind the body rather than hiding under it.
+  // The floor shadow falls from a high light on the key light's side, so it shows beside and
+  // behind the body rather than hiding under it.
+  for (Camera& c : cams)
     if (s.floor) c.shadow = build_shadow(s, (-0.35 * c.right + 1.0 * Vec3::UnitY() - 0.25 * c.forward).normalized());
-  }
 
   const int total_width = o.width * static_cast<int>(views.size());
   std::vector<std::uint8_t> rgb(static_cast<size_t>(total_width) * o.height * 3);

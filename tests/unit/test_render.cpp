@@ -287,6 +287,39 @@ TEST(Render, ViewsShareOneScale) {
   EXPECT_LT(front[1] - front[0], 200);  // the front panel is not cropped
 }
 
+// A close-up (focus_center, focus_radius) frames a small part of a large scene: a red "head" of
+// radius 10 cm on top of a grey 1.6 m "body". Framed whole, the head is a few per cent of the
+// picture; framed on it, it fills most of the picture, centred.
+TEST(Render, FocusFramesTheGivenSphere) {
+  const Eigen::Vector3d head_c(0, 1.7, 0);
+  Mesh scene = merge(box({0, 0.8, 0}, {0.2, 0.8, 0.12}), uv_sphere(head_c, 0.1));
+  RenderOptions o;
+  o.width = 200;
+  o.height = 200;
+  o.floor_grid = false;
+  // Colour the sphere red through a per-vertex scalar: the box's 8 vertices low, the sphere's high.
+  o.vertex_scalar.assign(static_cast<size_t>(scene.vertices.rows()), 1.0f);
+  for (int i = 0; i < 8; ++i) o.vertex_scalar[static_cast<size_t>(i)] = 0.0f;
+  o.scalar_min = 0.0f;
+  o.scalar_max = 1.0f;
+  for (bool ortho : {false, true}) {
+    o.orthographic = ortho;
+    o.focus_radius = 0;
+    const int whole = red_pixels(decode(render_png(scene.vertices, scene.faces, o)));
+    o.focus_center = {head_c.x(), head_c.y(), head_c.z()};
+    o.focus_radius = 0.1;
+    const Image close = decode(render_png(scene.vertices, scene.faces, o));
+    const int near = red_pixels(close);
+    EXPECT_LT(whole, 0.05 * 200 * 200) << (ortho ? "orthographic" : "perspective");
+    // The sphere's disc fills kFill (0.86) of the frame's half-height: π·0.86²/4 ≈ 58 % of the square.
+    EXPECT_GT(near, 0.45 * 200 * 200) << (ortho ? "orthographic" : "perspective");
+    const auto b = red_bounds(close, 0, 200);
+    EXPECT_NEAR(0.5 * (b[0] + b[1]), 99.5, 3);
+    EXPECT_NEAR(0.5 * (b[2] + b[3]), 99.5, 3);
+    EXPECT_LT(b[1] - b[0], 190);  // the whole sphere is in the frame
+  }
+}
+
 TEST(Render, HeatMapRunsFromBlueToRed) {
   const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
   RenderOptions o;
@@ -364,6 +397,15 @@ TEST(Render, BadInputThrowsNamingTheField) {
 
   EXPECT_EQ(kind_of([&] { render_views_png(cube.vertices, cube.faces, {}); }, &field), ErrorKind::InvalidArgument);
   EXPECT_EQ(field, "views");
+
+  o = {};
+  o.focus_radius = -1;
+  EXPECT_EQ(kind_of([&] { render_png(cube.vertices, cube.faces, o); }, &field), ErrorKind::InvalidArgument);
+  EXPECT_EQ(field, "focus_radius");
+  o.focus_radius = 0.1;
+  o.focus_center[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(kind_of([&] { render_png(cube.vertices, cube.faces, o); }, &field), ErrorKind::InvalidArgument);
+  EXPECT_EQ(field, "focus_center");
 }
 
 TEST(UvAtlas, DrawsEachTriangleWhereItsUvsAreAndFlippedOnesRed) {

@@ -40,13 +40,19 @@ struct RenderOptions {
   UvCoordinates uv_coordinates;
   Faces uv_faces;
   int checker_squares = 40;
+  // Close-up: with focus_radius > 0 (metres) every view frames the sphere of that radius around
+  // focus_center (body frame, metres) instead of the whole mesh; the rest of the body runs out
+  // of the picture. 0 = frame the whole mesh.
+  std::array<double, 3> focus_center{0.0, 0.0, 0.0};
+  double focus_radius = 0.0;
 };
 
 // PNG bytes (8-bit RGB) of `vertices` (N×3, metres) and `faces` (F×3, indices into vertices),
 // framed to fit with a margin, camera looking at mid-body with a slight downward tilt. The
 // floor is drawn at the mesh's lowest point (y = 0 for avatars). Throws Error(InvalidArgument)
 // for an empty mesh, non-finite vertices, out-of-range face indices, bad sizes or colours, or a
-// vertex_scalar of the wrong length or with non-finite values.
+// vertex_scalar of the wrong length or with non-finite values, or a negative or non-finite
+// focus_radius / non-finite focus_center.
 std::string render_png(const Vertices& vertices, const Faces& faces, const RenderOptions& options = {});
 
 // Several views side by side in one PNG (views.size()·width × height), all at the same scale,
