@@ -1614,6 +1614,10 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const TorsoRing& chest = P.torso[static_cast<size_t>(torso_key_ring(kChest))];
   const TorsoRing& glab = P.torso[static_cast<size_t>(torso_key_ring(kGlabella))];
   const double a_ch = chest.a, a_sh = P.torso[static_cast<size_t>(torso_key_ring(kHoleTop))].a;
+  const double a_hip = P.torso[static_cast<size_t>(torso_key_ring(kHip))].a;
+  const double y_ax = ring_y(kAxilla), y_s2 = ring_y(kShoulder2);
+  const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
+  const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
   const double head_cz = glab.cz;
   // The face's height, glabella to chin, as a share of its usual 13.06 head centimetres (less
   // where a short neck lifts the chin ring): the face's features are laid out over it.
@@ -1698,11 +1702,48 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
                (1 - smoothstep(y_nk - 2.5 * cm, y_nk - 0.5 * cm, y));  // not into the neck's girth
           h -= front * 0.30 * cm * blob(x - (x0 + 0.7 * (x1 - x0)), y - (ycl - 3.2 * cm), 0.3 * (x1 - x0), 1.8 * cm);
         }
+        // Women: the breasts' upper slope eases into the upper chest (the lofted profile bends
+        // there, a line across the chest).
+        if (fem > 0)
+          h += front * fem * 0.45 * cm * blob(x - 0.55 * a_ch, y - (y_ax - 0.5 * cm), 0.7 * a_ch, 3.5 * cm);
+        // The rib cage's lower border: an inverted V from the sternum's tip out to the flanks,
+        // the belly below it a little hollow.
+        {
+          const double yr = y_us + 2.0 * cm - 6.0 * cm * std::min(1.0, x / (0.8 * a_ch));
+          const double dy = yr - y;  // > 0 below the border
+          const double below = dy > 0 ? blob(dy - 2.0 * cm, 0, 3.0 * cm, 1) : 0.0;
+          h -= front * (0.25 - 0.1 * fem) * cm * below * window(x, 1.0 * cm, 3.0 * cm, 0.75 * a_ch, 0.95 * a_ch) *
+               smoothstep(y_w + 1.5 * cm, y_w + 4 * cm, y);
+        }
+        // The front of the iliac crest (its anterior spine), between the hip and waist sections.
+        {
+          const double ry = 0.3 * (y_w - y_hip);
+          h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - 0.78 * a_hip, y - (y_hip + 0.45 * (y_w - y_hip)), 2.5 * cm, ry);
+        }
         // Navel: a dimple just under the omphalion (which keeps its place and depth).
         h -= front * 0.45 * cm * blob(x, y - (y_w - 0.9 * cm), 1.6 * cm, 1.0 * cm);
       }
+      // The neck's base: the ring under the neck flares less, so the neck flows into the
+      // trapezius and the collarbones instead of standing on a collar.
+      {
+        h -= 0.35 * cm * blob(y - y_s2, 0, y_nk - y_s2, 1) * smoothstep(0.15, 0.6, s);
+      }
       // Torso, back.
       {
+        // The lower back's hollow above the waist (its section untouched).
+        {
+          const double ry = 0.45 * (y_us - y_w);
+          h -= back * 0.35 * cm * blob(x, y - 0.5 * (y_w + y_us), 0.55 * a_ch, ry);
+        }
+        // Gluteal fold: under each buttock over the back of the thigh, rising toward the midline.
+        {
+          const double xe = thigh_out;
+          const double yf = y_gf - 1.5 * cm * sq(std::min(1.0, x / xe));
+          const double dy = y - yf;
+          const double prof = dy > 0 ? blob(dy, 0, 2.5 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
+          // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
+          h -= back * 0.30 * cm * smoothstep(2.0 * cm, 5.0 * cm, y_gf - P.crotch_y) * prof * window(x, 1.0 * cm, 3.5 * cm, 0.75 * xe, 0.95 * xe);
+        }
         // Shoulder blades.
         const double ys = y_ch + 0.55 * (y_acr - y_ch), ry = std::max(0.5 * cm, 0.4 * (y_acr - y_ch));
         h += back * 0.8 * cm * blob(x - 0.42 * a_ch, y - ys, 0.32 * a_ch, ry);
