@@ -7,6 +7,9 @@
 // the hand's radial side. The crotch joins the torso's bottom ring to the two legs through a
 // front-to-back bridge of vertices shared by both legs' first rings.
 //
+// After the rings, the shoulder is faired (fair()) and anatomy is drawn on the surface as
+// horizontal displacements that keep every target (sculpt(), "Relief" below; docs/mannequin.md).
+//
 // Fidelity by construction (brief; paper §3.2 for how Caliper measures): every imposed
 // breadth/depth/circumference sits on a planar ring, so the plane section through its landmark is
 // exactly that ring polygon; ring scales and the superellipse exponent ("boxiness") are solved so
@@ -1646,7 +1649,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
         // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
         {
-          const double y_top = -1.4, y_tip = -5.4, y_base = -6.6, height = 2.0;
+          const double y_top = -1.4, y_tip = -5.4, y_base = -6.6, height = 2.3;
           double prof = 0;
           if (Y <= y_top && Y >= y_tip) prof = std::pow((y_top - Y) / (y_top - y_tip), 1.3);
           else if (Y < y_tip && Y > y_base) prof = 1 - smoothstep(0.0, 1.0, (y_tip - Y) / (y_tip - y_base));
@@ -1657,10 +1660,18 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         f += 0.15 * blob(X - 4.0, Y + 4.0, 1.8, 1.1);    // cheekbone
         f += 0.38 * blob(X, Y + 7.75, 2.4, 0.75);        // upper lip
         f += 0.32 * blob(X, Y + 9.1, 2.0, 0.7);          // lower lip
-        f -= 0.28 * blob(X, Y + 8.45, 2.7, 0.35);        // mouth line
+        f -= 0.35 * blob(X, Y + 8.45, 2.7, 0.35);        // mouth line
         f -= 0.15 * blob(X - 2.7, Y + 8.5, 0.8, 0.8);    // mouth corners
         f -= 0.28 * blob(X, Y + 10.3, 2.2, 0.7);         // labiomental fold
         f += 0.30 * blob(X, Y + 11.9, 2.0, 1.2);         // chin
+        // The jaw line: the mandible's lower border from the chin back to its angle, the soft
+        // floor of the mouth under it.
+        {
+          const double yj = -12.4 + 2.4 * sq(std::min(X, 5.5) / 5.5);
+          const double along = 1 - smoothstep(4.5, 6.5, X);
+          f += 0.20 * along * blob(Y - (yj + 0.4), 0, 0.8, 1);
+          f -= 0.30 * along * blob(Y - (yj - 0.9), 0, 0.9, 1);
+        }
         h += front * f * hu;
         // Ears: a flattened shell on each side, behind the head's mid-depth.
         const double Z = (p.z() - head_cz) / hu;
