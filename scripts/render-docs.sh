@@ -11,6 +11,10 @@ $c render --sex female --beta 0 -o docs/images/mannequin-mean-female.png "${size
 $c render --sex male --beta 0 -o docs/images/mannequin-mean-male.png "${size[@]}"
 $c render --sex male --height 193 --weight 72 -o docs/images/mannequin-tall-thin.png "${size[@]}"
 $c render --sex female --height 153 --weight 88 -o docs/images/mannequin-short-heavy.png "${size[@]}"
+# Head close-ups (the relief's face): front, side, three-quarter.
+head=(--pose a --focus head --views front,side,three-quarter --image-width 360 --image-height 400)
+$c render --sex female --beta 0 -o docs/images/mannequin-head.png "${head[@]}"
+$c render --sex male --beta 0 -o docs/images/mannequin-head-male.png "${head[@]}"
 # The rig at work: mid-stride, knees and elbows bent by the skinning weights.
 $c render --sex female --beta 0 -o docs/images/mannequin-posed.png --pose stride --views front,side,three-quarter \
   --image-width 420 --image-height 700
