@@ -608,7 +608,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   {
     const TorsoRing& g = K[kGlabella];
     const double c = std::sqrt(1 - 0.3 * 0.3);
-    ky.push_back(g.y + 0.3 * (d.S - g.y)); ka.push_back(g.a * c); kdf.push_back(g.df * c); kdb.push_back(g.db * c * 0.97);
+    ky.push_back(g.y + 0.3 * (d.S - g.y)); ka.push_back(g.a * c); kdf.push_back(g.df * c); kdb.push_back(g.db * c * (1 - 0.03 * (1 - c)));
     kcz.push_back(g.cz - 0.012 * hs * (1 - c)); kp.push_back(g.p); kbust.push_back(0); kglute.push_back(0);
     knose.push_back(0); kchin.push_back(0);
   }
@@ -718,7 +718,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     TorsoRing r = K[kGlabella];
     r.y = y_g + (d.S - y_g) * std::sin(th);
     const double c = std::cos(th);
-    r.a *= c; r.df *= c; r.db *= c * 0.97;
+    r.a *= c; r.df *= c; r.db *= c * (1 - 0.03 * (1 - c));  // the back flattens gradually: no step at the glabella ring
     r.cz = K[kGlabella].cz - 0.012 * hs * (1 - c);
     P.torso[static_cast<size_t>(kg + i)] = r;
   }
@@ -1477,13 +1477,15 @@ void fair(std::vector<Vec3>& v) {
 //    level stays);
 //  * landmark vertices do not move, except the few that only fix a section's height (chest,
 //    neck, knee, malleolus), which move horizontally;
-//  * on every horizontal section that carries a target (chest, waist, hip/buttock, neck, head;
-//    thigh, lower thigh, calf, ankle), vertices on the plane or on an edge crossing it move only
-//    inward, and the features are laid out so that they are concave there and away from the
-//    section's extreme points (grooves between the pectorals and along the spine, a navel beside
-//    the omphalion): the convex hull, breadth and depth are those of the lofted ring;
-//  * the spine groove is paired with the erector muscles beside it, which rise at most to the
-//    ring's own back extreme, so the back's extent (waist depth) is unchanged.
+//  * on every horizontal section that carries a breadth or depth (chest, waist, hip/buttock),
+//    vertices on the plane or on an edge crossing it move only inward, and the features there
+//    are concave and away from the section's extreme points (grooves between the pectorals and
+//    along the spine, a navel beside the omphalion); on girth-only sections (neck, head; thigh,
+//    lower thigh, calf, ankle), whose every vertex is on the hull, nothing moves;
+//  * around the waist the spine groove is paired with the erector muscles beside it, which rise
+//    at most to the ring's own back extreme, so the waist's depth is unchanged.
+// Before the relief, flat ring panels are re-spaced along their own polyline
+// (respace_torso_columns), so the features have vertices to move.
 // The left half is computed and mirrored, so bodies stay exactly symmetric.
 namespace {
 

@@ -150,7 +150,7 @@ std::vector<std::string> relief_failures(const BodyModel& model, const Vertices&
     const double bump = front(0.6 * cm) - 0.5 * (front(7.6 * cm) + front(-6.4 * cm));
     check(bump >= 0.3 * cm, "kneecap", bump);
   }
-  // Lateral malleolus: the ankle's outer side stands out of the side 2.5 cm above and below it.
+  // Lateral malleolus: the ankle's outer side stands out of the side 2.5 cm above and 2 cm below it.
   {
     const Eigen::Vector3d m = at("lateral_malleolus_left");
     auto side = [&](double dy) { return extreme_x(cut(v, f, m.y() + dy), m.z(), 1.0 * cm, 0); };
