@@ -11,6 +11,10 @@ $c render --sex female --beta 0 -o docs/images/mannequin-mean-female.png "${size
 $c render --sex male --beta 0 -o docs/images/mannequin-mean-male.png "${size[@]}"
 $c render --sex male --height 193 --weight 72 -o docs/images/mannequin-tall-thin.png "${size[@]}"
 $c render --sex female --height 153 --weight 88 -o docs/images/mannequin-short-heavy.png "${size[@]}"
+# Head close-ups (the relief's face): front, side, three-quarter.
+head=(--pose a --focus head --views front,side,three-quarter --image-width 360 --image-height 400)
+$c render --sex female --beta 0 -o docs/images/mannequin-head.png "${head[@]}"
+$c render --sex male --beta 0 -o docs/images/mannequin-head-male.png "${head[@]}"
 # The rig at work: mid-stride, knees and elbows bent by the skinning weights.
 $c render --sex female --beta 0 -o docs/images/mannequin-posed.png --pose stride --views front,side,three-quarter \
   --image-width 420 --image-height 700
@@ -22,8 +26,6 @@ $c render --sex female --beta 0 --focus left_middle1 --focus-radius 12 --views f
   -o docs/images/mannequin-hand.png --image-width 480 --image-height 400
 $c render --sex male --beta 0 --pose fist --focus left_middle1 --focus-radius 11 --views side,three-quarter \
   -o docs/images/mannequin-fist.png --image-width 480 --image-height 400
-$c render --sex female --beta 0 --focus head --views front,side,three-quarter \
-  -o docs/images/mannequin-head.png --image-width 420 --image-height 480
 # A heavy man (BMI 35: 178 cm, 111 kg).
 $c render --sex male --height 178 --weight 111 -o docs/images/mannequin-heavy-man.png "${size[@]}"
 # Beside the MakeHuman body at the same measurements, when MakeHuman's assets are beside the

@@ -7,6 +7,9 @@
 // the hand's radial side. The crotch joins the torso's bottom ring to the two legs through a
 // front-to-back bridge of vertices shared by both legs' first rings.
 //
+// After the rings, the shoulder is faired (fair()) and anatomy is drawn on the surface as
+// horizontal displacements that keep every target (sculpt(), "Relief" below; docs/mannequin.md).
+//
 // Fidelity by construction (brief; paper §3.2 for how Caliper measures): every imposed
 // breadth/depth/circumference sits on a planar ring, so the plane section through its landmark is
 // exactly that ring polygon; ring scales and the superellipse exponent ("boxiness") are solved so
@@ -83,8 +86,10 @@ enum TorsoKey {
   kNeck, kCervicale, kChin, kMouth, kNose, kGlabella, kTorsoKeyCount
 };
 // kArmpit: the axilla landmark's ring, just under the armpit hole whose bottom is kAxilla.
-constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 2, 2, 2, 3};
-constexpr int kDomeRings = 7;  // rings above the glabella ring before the pole
+// The face (chin → mouth → nose → glabella) has rings about 5 mm apart, so the relief (sculpt())
+// can draw lips, nose and eye sockets.
+constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 3, 8, 8, 10};
+constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 
 // Leg stations (below the theta ring r0) and intervals.
 enum LegKey { kLegTop, kThigh, kLowerThigh, kKnee, kCalf, kAnkle, kMalleolus, kLegKeyCount };
@@ -523,8 +528,8 @@ void plan_digits(const Dims& d, const ArmRing& knuckle, const ArmRing& web, Body
   t.blend = 0.25;
   for (double u : kThumbU) {
     // Full at the base (the ball of the thumb), a slight swelling at the knuckle, a rounded tip.
-    const double knuckle = 1 + 0.05 * std::exp(-std::pow((u - kThumbU[kThumbIpRing]) / 0.05, 2));
-    const double r = 0.062 * d.handl * (1.15 - 0.35 * u) * knuckle * rounded(u, 0.3);
+    const double joint = 1 + 0.05 * std::exp(-std::pow((u - kThumbU[kThumbIpRing]) / 0.05, 2));
+    const double r = 0.062 * d.handl * (1.15 - 0.35 * u) * joint * rounded(u, 0.3);
     t.at.push_back(u);
     t.half_width.push_back(r);
     t.half_thick.push_back(0.88 * r);
@@ -711,12 +716,15 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.db = 0.35 * (K[kNeck].db + (head_cz - K[kNeck].cz)) + 0.65 * 0.82 * hl2;
     r.chin = 0.004 * hs;
     K[kMouth] = r;
-    r.y = y_nose; r.a = 0.92 * hb2; r.df = 0.86 * hl2; r.db = 0.82 * hl2; r.chin = 0; r.nose = 0.02 * hs;
+    TorsoRing g;
+    g.y = y_g; g.cz = head_cz;
+    fit_torso_ring(g, d.headb, d.headl, 0.48, d.headc, 1.8, 10.0);
+    K[kGlabella] = g;
+    // At the nose the skull's back is nearly as full as at the glabella (the occiput rounds off
+    // below it), or the back of the head shows a groove under the glabella ring.
+    r.y = y_nose; r.a = 0.92 * hb2; r.df = 0.86 * hl2; r.db = 0.93 * g.db; r.p = 0.5 * (2.2 + g.p);
+    r.chin = 0; r.nose = 0;  // the nose itself: sculpt()
     K[kNose] = r;
-    r = TorsoRing{};
-    r.y = y_g; r.cz = head_cz; r.nose = 0.0;
-    fit_torso_ring(r, d.headb, d.headl, 0.48, d.headc, 1.8, 10.0);
-    K[kGlabella] = r;
   }
 
   // Ring levels between keys, then monotone interpolation of every parameter over y.
@@ -728,6 +736,15 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const TorsoRing& r = K[static_cast<size_t>(key)];
     ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db); kcz.push_back(r.cz);
     kp.push_back(r.p); kbust.push_back(r.bust); kglute.push_back(r.glute); knose.push_back(r.nose); kchin.push_back(r.chin);
+  }
+  // A knot on the dome (as the dome rings below compute it) gives the head's profile a level
+  // tangent at the glabella ring, its widest: the face rings meet the dome without a band.
+  {
+    const TorsoRing& g = K[kGlabella];
+    const double c = std::sqrt(1 - 0.3 * 0.3);
+    ky.push_back(g.y + 0.3 * (d.S - g.y)); ka.push_back(g.a * c); kdf.push_back(g.df * c); kdb.push_back(g.db * c * (1 - 0.03 * (1 - c)));
+    kcz.push_back(g.cz - 0.012 * hs * (1 - c)); kp.push_back(g.p); kbust.push_back(0); kglute.push_back(0);
+    knose.push_back(0); kchin.push_back(0);
   }
   // The bust needs its own profile: fuller below the apex, fading toward the axilla.
   const MonotoneCurve ca(ky, ka), cdf(ky, kdf), cdb(ky, kdb), ccz(ky, kcz), cp(ky, kp), cglute(ky, kglute),
@@ -819,7 +836,13 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     for (size_t i = 0; i < keys.size(); ++i) {
       const int k0 = keys[i].first, k1 = i + 1 < keys.size() ? keys[i + 1].first : kgl;
       const double p0 = keys[i].second, p1 = i + 1 < keys.size() ? keys[i + 1].second : 0.0;
-      for (int k = k0; k < k1; ++k) P.torso_pitch[static_cast<size_t>(k)] = std::lerp(p0, p1, static_cast<double>(k - k0) / (k1 - k0));
+      // Into the level glabella ring the pitch eases out (zero slope), or the back and sides of
+      // the head would fold along that ring.
+      const bool last = i + 1 == keys.size();
+      for (int k = k0; k < k1; ++k) {
+        const double u = static_cast<double>(k - k0) / (k1 - k0);
+        P.torso_pitch[static_cast<size_t>(k)] = last ? p0 * (1 - u) * (1 - u) : std::lerp(p0, p1, u);
+      }
     }
   }
   // Dome: quarter-ellipse from the glabella ring to the vertex.
@@ -829,7 +852,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     TorsoRing r = K[kGlabella];
     r.y = y_g + (d.S - y_g) * std::sin(th);
     const double c = std::cos(th);
-    r.a *= c; r.df *= c; r.db *= c * 0.97;
+    r.a *= c; r.df *= c; r.db *= c * (1 - 0.03 * (1 - c));  // the back flattens gradually: no step at the glabella ring
     r.cz = K[kGlabella].cz - 0.012 * hs * (1 - c);
     P.torso[static_cast<size_t>(kg + i)] = r;
   }
@@ -1732,6 +1755,386 @@ void fair(std::vector<Vec3>& v) {
   for (size_t i = 0; i < f.left.size(); ++i) v[static_cast<size_t>(f.right[i])] = mirror(v[static_cast<size_t>(f.left[i])]);
 }
 
+// ---- Relief: anatomy drawn on the lofted surface (issue 13) -------------------------------
+// The rings give the body its measured girths, breadths and depths but no anatomy: an egg of a
+// head, a torso with a flat front. sculpt() moves torso, head and leg vertices horizontally
+// along their ring's outward normal by a sum of smooth, compactly supported bumps ((1 − r²)³
+// kernels) placed in each body's own frame (head features in units of its head length, torso
+// features from its key levels and breadths, knees and ankles from the leg rings), so every
+// feature scales with the body. Fidelity is kept by construction:
+//  * the motion is horizontal, so no vertex changes height (every height target and every ring
+//    level stays);
+//  * landmark vertices do not move, except the few that only fix a section's height (chest,
+//    neck, knee, malleolus), which move horizontally;
+//  * on every horizontal section that carries a breadth or depth (chest, waist, hip/buttock),
+//    vertices on the plane or on an edge crossing it move only inward, and the features there
+//    are concave and away from the section's extreme points (grooves between the pectorals and
+//    along the spine, a navel beside the omphalion); on girth-only sections (neck, head; thigh,
+//    lower thigh, calf, ankle), whose every vertex is on the hull, nothing moves;
+//  * around the waist the spine groove is paired with the erector muscles beside it, which rise
+//    at most to the ring's own back extreme, so the waist's depth is unchanged.
+// Before the relief, flat ring panels are re-spaced along their own polyline
+// (respace_torso_columns), so the features have vertices to move.
+// The left half is computed and mirrored, so bodies stay exactly symmetric.
+namespace {
+
+double sq(double v) { return v * v; }
+// 1 at the centre, 0 beyond the ellipse of radii (rx, ry), C² in between.
+double blob(double dx, double dy, double rx, double ry) {
+  const double r2 = sq(dx / rx) + sq(dy / ry);
+  return r2 >= 1 ? 0.0 : (1 - r2) * (1 - r2) * (1 - r2);
+}
+// 0 → 1 over [a0, a1], then 1 → 0 over [b0, b1] (each ramp at least 1 mm long).
+double window(double v, double a0, double a1, double b0, double b1) {
+  return smoothstep(a0, std::max(a1, a0 + 1e-3), v) * (1 - smoothstep(b0, std::max(b1, b0 + 1e-3), v));
+}
+
+// A grid of vertex ids (rings × columns, −1 = none) with its triangulation's neighbours.
+struct Grid {
+  const std::vector<std::vector<int>>* ids;
+  bool closed_columns = true;
+  int id(int r, int c) const {
+    const auto& R = (*ids)[static_cast<size_t>(r)];
+    const int n = static_cast<int>(R.size());
+    return R[static_cast<size_t>(((c % n) + n) % n)];
+  }
+  int rings() const { return static_cast<int>(ids->size()); }
+  int columns() const { return static_cast<int>((*ids)[0].size()); }
+};
+
+// The ring's outward horizontal normal at (r, c), from the neighbouring columns.
+Vec3 ring_normal(const Grid& g, const std::vector<Vec3>& v, int r, int c) {
+  const int a = g.id(r, c - 1), b = g.id(r, c + 1), m = g.id(r, c);
+  const Vec3 pa = v[static_cast<size_t>(a >= 0 ? a : m)], pb = v[static_cast<size_t>(b >= 0 ? b : m)];
+  const Vec3 t = pb - pa;
+  const Vec3 n(-t.z(), 0, t.x());
+  return n.norm() > 1e-12 ? Vec3(n / n.norm()) : Vec3(0, 0, 0);
+}
+
+// Vertices on a horizontal plane y = ys or on a grid edge that crosses it (their motion moves
+// the section there). Edges: along rings, across rings, and the quads' (r, c)–(r+1, c+1) diagonal.
+void mark_section(const Grid& g, const std::vector<Vec3>& v, double ys, int r0, int r1, std::vector<char>& on) {
+  auto side = [&](int id) { const double d = v[static_cast<size_t>(id)].y() - ys; return std::abs(d) < 1e-12 ? 0 : (d > 0 ? 1 : -1); };
+  for (int r = std::max(0, r0); r <= std::min(g.rings() - 1, r1); ++r)
+    for (int c = 0; c < g.columns(); ++c) {
+      const int a = g.id(r, c);
+      if (a < 0) continue;
+      const int sa = side(a);
+      if (sa == 0) { on[static_cast<size_t>(a)] = 1; continue; }
+      const std::array<std::pair<int, int>, 6> nb = {{{r, c + 1}, {r, c - 1}, {r + 1, c}, {r - 1, c}, {r + 1, c + 1}, {r - 1, c - 1}}};
+      for (const auto& [rr, cc] : nb) {
+        if (rr < 0 || rr >= g.rings()) continue;
+        const int b = g.id(rr, cc);
+        if (b >= 0 && side(b) == -sa) { on[static_cast<size_t>(a)] = 1; break; }
+      }
+    }
+}
+
+// Squarish rings (men's chests reach superellipse exponent 14) sample their flat front and back
+// with hardly a vertex: column 1 sits at 0.7 of the half-breadth, so a groove or a pectoral has
+// nothing to move. Each ring's front (columns 0–8) and back (24–32), and the head's rings all
+// round, are re-spaced along the ring's own polyline, at equal steps of length plus a share for the turning angle (corners keep more
+// columns): the vertices stay on the polyline, so the ring keeps its extreme points and, up to the
+// corners' chords (< 0.1 % of a girth), its hull. Landmark columns and the ends stay in place.
+void respace_torso_columns(Builder& B, const std::set<int>& pinned) {
+  std::vector<Vec3>& v = B.v;
+  const int nt = static_cast<int>(B.torso.size());
+  for (int k = 1; k < nt; ++k) {
+    const auto& R = B.torso[static_cast<size_t>(k)];
+    // The head (above the cervicale ring) all round: its boxiest rings would leave the ears
+    // between columns.
+    const bool head = k > torso_key_ring(kCervicale);
+    const std::vector<std::pair<int, int>> spans = head ? std::vector<std::pair<int, int>>{{0, 16}, {16, 32}}
+                                                        : std::vector<std::pair<int, int>>{{0, 6}, {26, 32}};
+    for (const auto& [j0, j1] : spans) {
+      int a = j0;
+      while (a < j1) {
+        int b = a + 1;
+        while (b < j1 && !pinned.count(R[static_cast<size_t>(b)])) ++b;
+        if (b - a >= 2) {
+          bool whole = true;
+          for (int j = a; j <= b; ++j) whole = whole && R[static_cast<size_t>(j)] >= 0;
+          if (whole) {
+            std::vector<Vec3> q;
+            for (int j = a; j <= b; ++j) q.push_back(v[static_cast<size_t>(R[static_cast<size_t>(j)])]);
+            const double scale = 0.25 * (q.back() - q.front()).norm();
+            std::vector<double> cost(q.size(), 0.0);
+            for (size_t i = 1; i < q.size(); ++i) {
+              double turn = 0;
+              for (size_t e : {i - 1, i}) {  // turning at both ends of the edge, halved
+                if (e == 0 || e + 1 >= q.size()) continue;
+                const Vec3 u = (q[e] - q[e - 1]).normalized(), w = (q[e + 1] - q[e]).normalized();
+                turn += 0.5 * std::acos(std::clamp(u.dot(w), -1.0, 1.0));
+              }
+              cost[i] = cost[i - 1] + (q[i] - q[i - 1]).norm() + scale * turn;
+            }
+            size_t e = 1;
+            for (int j = a + 1; j < b; ++j) {
+              const double want = cost.back() * (j - a) / (b - a);
+              while (e + 1 < q.size() && cost[e] < want) ++e;
+              const double f = (want - cost[e - 1]) / std::max(1e-15, cost[e] - cost[e - 1]);
+              v[static_cast<size_t>(R[static_cast<size_t>(j)])] = q[e - 1] + f * (q[e] - q[e - 1]);
+            }
+          }
+        }
+        a = b;
+      }
+    }
+    for (int j = 1; j < kTorsoN / 2; ++j)
+      if (R[static_cast<size_t>(j)] >= 0) v[static_cast<size_t>(R[static_cast<size_t>(kTorsoN - j)])] = mirror(v[static_cast<size_t>(R[static_cast<size_t>(j)])]);
+  }
+}
+
+void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
+  const bool female = sex == Sex::Female;
+  const double fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
+  const double sc = d.S / 1.70;
+  const double cm = 0.01 * sc;               // one centimetre on a 1.70 m body
+  const double hu = 0.01 * d.headl / 0.195;  // one centimetre on a 19.5 cm long head
+  std::vector<Vec3>& v = B.v;
+  {
+    std::set<int> pinned;
+    for (const auto& [name, id] : B.landmarks) pinned.insert(id);
+    respace_torso_columns(B, pinned);
+  }
+  const std::vector<Vec3> v0 = v;
+  std::vector<double> D(v.size(), 0.0);      // outward displacement, metres
+  std::vector<double> ridge(v.size(), 0.0);  // the erector muscles' share of it (see above)
+  std::vector<Vec3> N(v.size(), Vec3::Zero());
+
+  auto ring_y = [&](int key) { return P.torso[static_cast<size_t>(torso_key_ring(key))].y; };
+  const double y_hip = ring_y(kHip), y_w = ring_y(kWaist), y_us = ring_y(kUnderBust), y_ch = ring_y(kChest),
+               y_acr = ring_y(kHoleTop), y_nk = ring_y(kNeck), y_cv = ring_y(kCervicale), y_g = ring_y(kGlabella);
+  const TorsoRing& chest = P.torso[static_cast<size_t>(torso_key_ring(kChest))];
+  const TorsoRing& glab = P.torso[static_cast<size_t>(torso_key_ring(kGlabella))];
+  const double a_ch = chest.a, a_sh = P.torso[static_cast<size_t>(torso_key_ring(kHoleTop))].a;
+  const double a_hip = P.torso[static_cast<size_t>(torso_key_ring(kHip))].a;
+  const double y_ax = ring_y(kAxilla), y_s2 = ring_y(kShoulder2);
+  const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
+  const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
+  const double head_cz = glab.cz;
+  // The face's height, glabella to chin, as a share of its usual 13.06 head centimetres (less
+  // where a short neck lifts the chin ring): the face's features are laid out over it.
+  const double face = std::clamp((y_g - ring_y(kChin)) / (13.06 * hu), 0.3, 1.0);
+
+  // -- Torso, neck and head (left half, j = 0..32).
+  const Grid T{&B.torso};
+  const int nt = T.rings();
+  for (int k = 0; k < nt; ++k)
+    for (int j = 0; j <= kTorsoN / 2; ++j) {
+      const int id = T.id(k, j);
+      if (id < 0) continue;
+      N[static_cast<size_t>(id)] = ring_normal(T, v0, k, j);
+      const Vec3& p = v0[static_cast<size_t>(id)];
+      const double t = 2 * kPi * j / kTorsoN, c = std::cos(t), s = std::sin(t);
+      const double x = std::abs(p.x()), y = p.y();
+      const double front = smoothstep(0.25, 0.65, c), back = smoothstep(0.25, 0.65, -c);
+      double h = 0;
+      if (y > y_cv) {
+        // Face, in head centimetres from the glabella (X across, Y up).
+        const double X = x / hu, Y = (y - y_g) / (hu * face);
+        double f = 0;
+        f += 0.22 * blob(X - 2.9, Y + 0.6, 2.6, 0.55);   // brow ridge, under the glabella ring
+        f -= 0.60 * blob(X - 3.2, Y + 2.35, 2.2, 1.5);   // eye socket
+        f += 0.22 * blob(X - 3.2, Y + 2.45, 1.2, 0.75);  // the eye (lids) inside it
+        f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
+        // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
+        {
+          const double y_top = -1.4, y_tip = -5.4, y_base = -6.6, height = 2.3;
+          double prof = 0;
+          if (Y <= y_top && Y >= y_tip) prof = std::pow((y_top - Y) / (y_top - y_tip), 1.3);
+          else if (Y < y_tip && Y > y_base) prof = 1 - smoothstep(0.0, 1.0, (y_tip - Y) / (y_tip - y_base));
+          const double half = std::lerp(0.9, 1.5, std::clamp((y_top - Y) / (y_top - y_tip), 0.0, 1.0));
+          f += height * prof * blob(X, 0, half, 1);
+          f += 0.45 * blob(X - 1.5, Y + 5.9, 1.0, 0.8);  // the nostrils' wings
+        }
+        f += 0.15 * blob(X - 4.0, Y + 4.0, 1.8, 1.1);    // cheekbone
+        f += 0.38 * blob(X, Y + 7.75, 2.4, 0.75);        // upper lip
+        f += 0.32 * blob(X, Y + 9.1, 2.0, 0.7);          // lower lip
+        f -= 0.35 * blob(X, Y + 8.45, 2.7, 0.35);        // mouth line
+        f -= 0.15 * blob(X - 2.7, Y + 8.5, 0.8, 0.8);    // mouth corners
+        f -= 0.28 * blob(X, Y + 10.3, 2.2, 0.7);         // labiomental fold
+        f += 0.30 * blob(X, Y + 11.9, 2.0, 1.2);         // chin
+        // The jaw line: the mandible's lower border from the chin back to its angle, the soft
+        // floor of the mouth under it.
+        {
+          const double yj = -12.4 + 2.4 * sq(std::min(X, 5.5) / 5.5);
+          const double along = 1 - smoothstep(4.5, 6.5, X);
+          f += 0.20 * along * blob(Y - (yj + 0.4), 0, 0.8, 1);
+          f -= 0.30 * along * blob(Y - (yj - 0.9), 0, 0.9, 1);
+        }
+        h += front * f * hu;
+        // Ears: a flattened shell on each side, behind the head's mid-depth.
+        const double Z = (p.z() - head_cz) / hu;
+        const double side = smoothstep(0.55, 0.85, s);
+        const double ear = 0.85 * blob(Y + 4.3, Z + 1.1, 2.8, 1.6) - 0.40 * blob(Y + 4.6, Z + 0.7, 1.3, 0.8);
+        h += side * ear * hu;
+      }
+      // Torso, front.
+      {
+        // Groove between the pectorals / breasts, running on as the linea alba to the navel.
+        const double g = female ? 0.75 * cm : 0.90 * cm;
+        const double along = window(y, y_w + 2 * cm, y_us, y_acr - 8 * cm, y_acr - 2.5 * cm);
+        const double upper = smoothstep(y_us - 3 * cm, y_us + 4 * cm, y);
+        h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, female ? 4.5 : 5.0, upper) * cm, 1);
+        // Men: the pectorals' lower border, rising from the sternum to the armpit.
+        if (!female) {
+          const double amp = (1 - fem) * 1.1 * cm;
+          const double yb = y_ch - 3.2 * cm + 6.5 * cm * sq(x / a_ch);
+          const double dy = y - yb;
+          const double prof = dy > 0 ? blob(dy, 0, 2.6 * cm, 1) : blob(dy, 0, 5.0 * cm, 1);
+          h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * a_ch, 0.9 * a_ch);
+        }
+        // Women: the fold under each breast.
+        if (fem > 0) {
+          const double xb = 0.62 * a_ch;
+          const double yb = y_ch - 7.0 * cm + 2.5 * cm * sq((x - xb) / (0.45 * a_ch));
+          const double dy = y - yb;
+          const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
+          h -= front * fem * 0.6 * cm * prof * blob(x - xb, 0, 0.6 * a_ch, 1);
+        }
+        // Clavicles: a ridge from the sternum to the shoulder, hollows above and below it.
+        const double x0 = 1.8 * cm, x1 = a_sh - 4.0 * cm;
+        if (x1 > x0) {
+          const double u = std::clamp((x - x0) / (x1 - x0), 0.0, 1.0);
+          const double ycl = y_acr - 2.4 * cm + 1.6 * cm * u;
+          const double along_cl = window(x, x0 - 1 * cm, x0 + 1 * cm, x1 - 1.5 * cm, x1 + 0.5 * cm);
+          h += front * along_cl * 0.30 * cm * blob(y - ycl, 0, 2.0 * cm, 1);
+          h -= front * 0.60 * cm * blob(x - (x0 + 0.55 * (x1 - x0)), y - (ycl + 2.8 * cm), 0.35 * (x1 - x0), 2.0 * cm) *
+               (1 - smoothstep(y_nk - 2.5 * cm, y_nk - 0.5 * cm, y));  // not into the neck's girth
+          h -= front * 0.30 * cm * blob(x - (x0 + 0.7 * (x1 - x0)), y - (ycl - 3.2 * cm), 0.3 * (x1 - x0), 1.8 * cm);
+        }
+        // Women: the breasts' upper slope eases into the upper chest (the lofted profile bends
+        // there, a line across the chest).
+        if (fem > 0)
+          h += front * fem * 0.45 * cm * blob(x - 0.55 * a_ch, y - (y_ax - 0.5 * cm), 0.7 * a_ch, 3.5 * cm);
+        // The rib cage's lower border: an inverted V from the sternum's tip out to the flanks,
+        // the belly below it a little hollow.
+        {
+          const double yr = y_us + 2.0 * cm - 6.0 * cm * std::min(1.0, x / (0.8 * a_ch));
+          const double dy = yr - y;  // > 0 below the border
+          const double below = dy > 0 ? blob(dy - 2.0 * cm, 0, 3.0 * cm, 1) : 0.0;
+          h -= front * (0.25 - 0.1 * fem) * cm * below * window(x, 1.0 * cm, 3.0 * cm, 0.75 * a_ch, 0.95 * a_ch) *
+               smoothstep(y_w + 1.5 * cm, y_w + 4 * cm, y);
+        }
+        // The front of the iliac crest (its anterior spine), between the hip and waist sections.
+        {
+          const double ry = 0.3 * (y_w - y_hip);
+          h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - 0.78 * a_hip, y - (y_hip + 0.45 * (y_w - y_hip)), 2.5 * cm, ry);
+        }
+        // Navel: a dimple just under the omphalion (which keeps its place and depth).
+        h -= front * 0.45 * cm * blob(x, y - (y_w - 0.9 * cm), 1.6 * cm, 1.0 * cm);
+      }
+      // The neck's base: the ring under the neck flares less, so the neck flows into the
+      // trapezius and the collarbones instead of standing on a collar.
+      {
+        h -= 0.35 * cm * blob(y - y_s2, 0, y_nk - y_s2, 1) * smoothstep(0.15, 0.6, s);
+      }
+      // Torso, back.
+      {
+        // The lower back's hollow above the waist (its section untouched).
+        {
+          const double ry = 0.45 * (y_us - y_w);
+          h -= back * 0.35 * cm * blob(x, y - 0.5 * (y_w + y_us), 0.55 * a_ch, ry);
+        }
+        // Gluteal fold: under each buttock over the back of the thigh, rising toward the midline.
+        {
+          const double xe = thigh_out;
+          const double yf = y_gf - 1.5 * cm * sq(std::min(1.0, x / xe));
+          const double dy = y - yf;
+          const double prof = dy > 0 ? blob(dy, 0, 2.5 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
+          // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
+          h -= back * 0.30 * cm * smoothstep(2.0 * cm, 5.0 * cm, y_gf - P.crotch_y) * prof * window(x, 1.0 * cm, 3.5 * cm, 0.75 * xe, 0.95 * xe);
+        }
+        // Shoulder blades.
+        const double ys = y_ch + 0.55 * (y_acr - y_ch), ry = std::max(0.5 * cm, 0.4 * (y_acr - y_ch));
+        h += back * 0.8 * cm * blob(x - 0.42 * a_ch, y - ys, 0.32 * a_ch, ry);
+      }
+      D[static_cast<size_t>(id)] = h;
+    }
+  // The spine groove and the erector muscles beside it, ring by ring (see the section comment).
+  for (int k = 0; k < nt; ++k) {
+    const double yk = P.torso[static_cast<size_t>(k)].y;
+    const double depth = window(yk, y_hip + 1 * cm, std::max(y_w - 1 * cm, y_hip + 6 * cm), y_cv - 10 * cm, y_cv - 3 * cm) *
+                         std::lerp(0.45 * cm, 0.60 * cm, 1 - smoothstep(y_us, y_ch, yk));
+    if (depth <= 0) continue;
+    double back_extreme = 1e9;
+    for (int j = kTorsoN / 4; j <= kTorsoN / 2; ++j)
+      if (T.id(k, j) >= 0) back_extreme = std::min(back_extreme, v0[static_cast<size_t>(T.id(k, j))].z());
+    for (int j = kTorsoN / 4 + 1; j <= kTorsoN / 2; ++j) {
+      const int id = T.id(k, j);
+      if (id < 0) continue;
+      const Vec3& p = v0[static_cast<size_t>(id)];
+      const double x = std::abs(p.x());
+      const double groove = depth * blob(x, 0, 4.0 * cm, 1);
+      D[static_cast<size_t>(id)] -= groove;
+      const double room = p.z() - back_extreme;  // how far this point lies inside the back's extreme
+      // Only around the waist, whose depth is a target: elsewhere the groove may deepen the back.
+      const double near_waist = blob(p.y() - y_w, 0, 7 * cm, 1);
+      ridge[static_cast<size_t>(id)] = near_waist * room * depth / (room + depth + 1e-12) * blob(x - 4.2 * cm, 0, 3.4 * cm, 1);
+    }
+  }
+
+  // -- Legs (left leg; ring 0 is the torso's bottom ring).
+  const Grid L{&B.leg[0]};
+  const int knee_r = leg_key_ring(kKnee), mall_r = leg_key_ring(kMalleolus);
+  const LegRing &knee = P.leg[static_cast<size_t>(knee_r)], &mall = P.leg[static_cast<size_t>(mall_r)];
+  const double y_kn = knee.y, y_ml = mall.y;
+  for (int r = 1; r < L.rings(); ++r)
+    for (int k = 0; k < kLegN; ++k) {
+      const int id = L.id(r, k);
+      N[static_cast<size_t>(id)] = ring_normal(L, v0, r, k);
+      const Vec3& p = v0[static_cast<size_t>(id)];
+      const double phi = leg_angle(k), c = std::cos(phi), s = std::sin(phi);
+      const double xl = p.x() - knee.xc, zl = p.z() - mall.zc, y = p.y();
+      double h = 0;
+      // Kneecap, with the hollows beside the patellar tendon below it.
+      const double fr = smoothstep(0.2, 0.6, c);
+      h += fr * 0.50 * cm * blob(xl, y - (y_kn + 0.6 * cm), 2.8 * cm, 4.5 * cm);
+      h -= fr * 0.30 * cm * (blob(xl - 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm) +
+                             blob(xl + 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm));
+      // Malleoli: the lateral one lower and further back than the medial one.
+      h += smoothstep(0.5, 0.9, s) * 0.40 * cm * blob(zl + 0.3 * cm, y - (y_ml + 0.6 * cm), 2.2 * cm, 2.2 * cm);
+      h += smoothstep(0.5, 0.9, -s) * 0.35 * cm * blob(zl - 0.3 * cm, y - (y_ml + 1.4 * cm), 2.2 * cm, 2.2 * cm);
+      D[static_cast<size_t>(id)] = h;
+    }
+
+  // -- Guards: sections that carry targets move only inward; landmarks stay.
+  // Sections with a breadth or depth: grooves may cross them between the extreme points.
+  // Girth-only sections (neck, head, leg girths), whose every ring vertex is on the hull: none.
+  std::vector<char> on(v.size(), 0), girth_only(v.size(), 0);
+  auto lm = [&](const char* name) { return B.landmarks.at(name); };
+  auto ly = [&](const char* name) { return v0[static_cast<size_t>(lm(name))].y(); };
+  for (const char* name : {"chest_front", "omphalion", "hip_left", "buttock_back"}) mark_section(T, v0, ly(name), 0, nt - 1, on);
+  for (const char* name : {"neck_front", "glabella"}) mark_section(T, v0, ly(name), 0, nt - 1, girth_only);
+  for (const char* name : {"thigh_left", "lower_thigh_left", "calf_left", "ankle_left"})
+    mark_section(L, v0, ly(name), 1, L.rings() - 1, girth_only);
+  for (size_t i = 0; i < v.size(); ++i)
+    D[i] = girth_only[i] ? 0.0 : (on[i] ? std::min(D[i], 0.0) : D[i]) + ridge[i];
+  const std::set<std::string> height_only = {"chest_front", "neck_front", "knee_left", "knee_right",
+                                             "lateral_malleolus_left", "lateral_malleolus_right"};
+  for (const auto& [name, id] : B.landmarks)
+    if (!height_only.count(name)) D[static_cast<size_t>(id)] = 0;
+
+  // -- Apply on the left, mirror to the right.
+  for (int k = 0; k < nt; ++k)
+    for (int j = 0; j <= kTorsoN / 2; ++j) {
+      const int id = T.id(k, j);
+      if (id < 0) continue;
+      v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
+      if (j == 0 || j == kTorsoN / 2) v[static_cast<size_t>(id)].x() = 0;
+      else v[static_cast<size_t>(T.id(k, kTorsoN - j))] = mirror(v[static_cast<size_t>(id)]);
+    }
+  for (int r = 1; r < L.rings(); ++r)
+    for (int k = 0; k < kLegN; ++k) {
+      const int id = L.id(r, k);
+      v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
+      v[static_cast<size_t>(B.leg[1][static_cast<size_t>(r)][static_cast<size_t>(k)])] = mirror(v[static_cast<size_t>(id)]);
+    }
+}
+
+}  // namespace
+
 const Topology& topology() {
   static const Topology topo = make_topology();
   return topo;
@@ -2072,9 +2475,13 @@ UvLayout uv_layout(const Vertices& rest) {
 
 Vertices generate(const Dimensions& dims, Sex sex) {
   validate(dims, sex);
+  const Dims d = to_dims(dims);
+  const BodyPlan P = plan_body(d, sex);
   Builder B;
-  build(plan_body(to_dims(dims), sex), B);
+  build(P, B);
   fair(B.v);
+  add_landmarks(B);
+  sculpt(P, d, sex, B);
   Vertices out(static_cast<Eigen::Index>(B.v.size()), 3);
   for (size_t i = 0; i < B.v.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = B.v[i].transpose();
   return out;

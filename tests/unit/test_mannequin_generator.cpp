@@ -56,6 +56,111 @@ std::vector<std::pair<mq::Dimensions, Sex>> sample_bodies() {
   return out;
 }
 
+
+// Where the plane y = h cuts the mesh's edges.
+std::vector<Eigen::Vector3d> cut(const Vertices& v, const Faces& f, double h) {
+  std::vector<Eigen::Vector3d> out;
+  for (Eigen::Index i = 0; i < f.rows(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d a = v.row(f(i, c)).transpose(), b = v.row(f(i, (c + 1) % 3)).transpose();
+      if (a.y() == h) out.push_back(a);
+      if ((a.y() - h) * (b.y() - h) >= 0) continue;
+      out.push_back(a + (b - a) * ((h - a.y()) / (b.y() - a.y())));
+    }
+  return out;
+}
+// The section's front-most (sign +1) or back-most (−1) z among points with |x − x0| ≤ half.
+double extreme_z(const std::vector<Eigen::Vector3d>& pts, double x0, double half, int sign) {
+  double best = -1e9;
+  for (const auto& p : pts)
+    if (std::abs(p.x() - x0) <= half) best = std::max(best, sign * p.z());
+  return sign * best;
+}
+// The section's largest x among points in front of / behind z0 by at most `half`.
+double extreme_x(const std::vector<Eigen::Vector3d>& pts, double z0, double half, double x_min) {
+  double best = -1e9;
+  for (const auto& p : pts)
+    if (std::abs(p.z() - z0) <= half && p.x() >= x_min) best = std::max(best, p.x());
+  return best;
+}
+
+// The relief (generator.cpp, sculpt()) carries a face, a spine, kneecaps and malleoli, measured
+// here on the surface itself, in head centimetres (hu) for the face and centimetres scaled by
+// stature elsewhere. Each check compares points a lofted ring surface could not tell apart by
+// these amounts. Returns the failures' descriptions.
+std::vector<std::string> relief_failures(const BodyModel& model, const Vertices& v, const mq::Dimensions& d) {
+  std::vector<std::string> out;
+  const Faces& f = model.faces();
+  const double hu = 0.01 * d.at("headlength") / 0.195, cm = 0.01 * d.at("stature") / 1.70;
+  auto at = [&](const char* name) { return Eigen::Vector3d(v.row(model.landmark(name)).transpose()); };
+  auto check = [&](bool ok, const std::string& what, double value) {
+    if (!ok) out.push_back(what + " (" + std::to_string(value * 1000) + " mm)");
+  };
+  // Face, from the glabella down (X across, Y below it).
+  const Eigen::Vector3d g = at("glabella");
+  // The face spans the glabella to the chin ring (generator: 13.06 hu below it, or at least 6 mm
+  // above the cervicale where the neck is short); its features' heights scale with it.
+  const double chin_y = std::max(d.at("stature") - 23.2 * hu, d.at("cervicaleheight") + 0.006);
+  const double face = std::clamp((g.y() - chin_y) / (13.06 * hu), 0.3, 1.0);
+  auto face_z = [&](double X, double Y) {
+    std::vector<Eigen::Vector3d> front;  // the face: in front of the glabella's plane less 4 hu
+    for (const auto& p : cut(v, f, g.y() + Y * face * hu))
+      if (p.z() > g.z() - 4 * hu) front.push_back(p);
+    return extreme_z(front, X * hu, 0.7 * hu, +1);
+  };
+  double nose = -1e9;
+  for (double Y = -4.6; Y >= -6.0; Y -= 0.2) nose = std::max(nose, face_z(0, Y));
+  const double upper_lip = face_z(0, -7.75), eye = face_z(3.2, -2.4), brow = face_z(3.0, -0.6), cheek = face_z(3.2, -4.2);
+  check(nose - upper_lip >= 0.6 * hu, "nose tip in front of the upper lip", nose - upper_lip);
+  check(nose - eye >= 1.5 * hu, "nose tip in front of the eyes", nose - eye);
+  check(brow - eye >= 0.4 * hu, "eye socket behind the brow", brow - eye);
+  check(0.5 * (brow + cheek) - eye >= 0.2 * hu, "eye socket behind the line from brow to cheek", 0.5 * (brow + cheek) - eye);
+  const double lower_lip = face_z(0, -9.1), fold = face_z(0, -10.3), chin = face_z(0, -11.9);
+  check(lower_lip - fold >= 0.15 * hu && chin - fold >= 0.1 * hu,
+        "fold between lower lip and chin: lip " + std::to_string((lower_lip - g.z()) / hu) + " fold " + std::to_string((fold - g.z()) / hu) + " chin " + std::to_string((chin - g.z()) / hu),
+        std::min(lower_lip - fold, chin - fold));
+  // Ears: at ear level the head reaches out to about its breadth at the glabella, its widest
+  // (the lofted head is 8 % narrower there).
+  {
+    const auto pts = cut(v, f, g.y() - 4.3 * face * hu);
+    const double cz = 0.5 * (g.z() + at("opisthocranion").z());
+    double ear = -1e9;
+    for (const auto& p : pts)
+      if (p.x() > 0 && p.z() > cz - 3 * hu && p.z() < cz + 1 * hu) ear = std::max(ear, p.x());
+    check(ear >= at("head_side_left").x() - 0.2 * hu, "ear stands out", ear - at("head_side_left").x());
+  }
+  // Spine groove between the erector muscles, halfway from the navel to the bust point.
+  {
+    const double y = 0.5 * (at("omphalion").y() + at("chest_front").y());
+    const auto pts = cut(v, f, y);
+    double z_lo = 1e9, z_hi = -1e9;
+    for (const auto& p : pts) { z_lo = std::min(z_lo, p.z()); z_hi = std::max(z_hi, p.z()); }
+    std::vector<Eigen::Vector3d> back;  // the section's back half
+    for (const auto& p : pts)
+      if (p.z() < 0.5 * (z_lo + z_hi)) back.push_back(p);
+    double spine = 1e9, beside = 1e9;  // back-most z on the midline / 2–5 cm to either side
+    for (const auto& p : back) {
+      if (std::abs(p.x()) <= 1.0 * cm) spine = std::min(spine, p.z());
+      if (std::abs(p.x()) >= 2.0 * cm && std::abs(p.x()) <= 5.0 * cm) beside = std::min(beside, p.z());
+    }
+    check(spine - beside >= 0.3 * cm, "spine groove at y " + std::to_string(y) + " (" + std::to_string(pts.size()) + " section points)", spine - beside);
+  }
+  // Kneecap: the knee's front stands out of the line from 7 cm above it to 7 cm below it.
+  {
+    const Eigen::Vector3d k = at("knee_left");
+    auto front = [&](double dy) { return extreme_z(cut(v, f, k.y() + dy), k.x(), 1.0 * cm, +1); };
+    const double bump = front(0.6 * cm) - 0.5 * (front(7.6 * cm) + front(-6.4 * cm));
+    check(bump >= 0.3 * cm, "kneecap", bump);
+  }
+  // Lateral malleolus: the ankle's outer side stands out of the side 2.5 cm above and 2 cm below it.
+  {
+    const Eigen::Vector3d m = at("lateral_malleolus_left");
+    auto side = [&](double dy) { return extreme_x(cut(v, f, m.y() + dy), m.z(), 1.0 * cm, 0); };
+    const double bump = side(0) - 0.5 * (side(2.5 * cm) + side(-2.0 * cm));
+    check(bump >= 0.2 * cm, "lateral malleolus", bump);
+  }
+  return out;
+}
 }  // namespace
 
 TEST(MannequinGenerator, TopologyIsClosedManifoldAndOriented) {
@@ -254,11 +359,17 @@ TEST(MannequinGenerator, EachFingerJointBendsOnlyItsFinger) {
       EXPECT_GT(moved.maxCoeff(&farthest), 0.005) << name;
       EXPECT_LT(moved.maxCoeff(), 0.15) << name;
       EXPECT_LT(posed(farthest, 1), v(farthest, 1) - 0.004) << name;
-      for (Eigen::Index i = 0; i < v.rows(); ++i)
-        if (moved(i) > 1e-4) EXPECT_GT(v(i, 0), joint_x - 0.02) << name << " moved vertex " << i;
+      for (Eigen::Index i = 0; i < v.rows(); ++i) {
+        if (moved(i) > 1e-4) {
+          EXPECT_GT(v(i, 0), joint_x - 0.02) << name << " moved vertex " << i;
+        }
+      }
       // Bending another finger leaves the middle fingertip where it was.
-      if (std::string(f) != "middle") EXPECT_LT(moved(middle_tip), 1e-9) << name;
-      else EXPECT_GT(moved(middle_tip), 0.01) << name;
+      if (std::string(f) != "middle") {
+        EXPECT_LT(moved(middle_tip), 1e-9) << name;
+      } else {
+        EXPECT_GT(moved(middle_tip), 0.01) << name;
+      }
     }
 }
 
@@ -477,6 +588,7 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
         EXPECT_LE(r.p99_degrees, p99_bound) << "subject " << s.id << ", " << to_string(r.region);
         EXPECT_LE(r.max_degrees, 150) << "subject " << s.id << ", " << to_string(r.region) << " edge " << r.worst.a << "-" << r.worst.b;
       }
+      for (const auto& miss : relief_failures(model, v, dims)) ADD_FAILURE() << "subject " << s.id << ": " << miss;
       // A chest whose circumference no plausible section of its breadth and depth reaches grows
       // in both by one factor (generator.cpp header): there breadth is traded, not missed.
       const double depth_factor = m.at("chest_depth") / dims.at("chestdepth");
