@@ -27,6 +27,13 @@ struct StoredSession {
   std::vector<CapturePoint> redo;        // undone, the next to redo last
 };
 
+// A session's pairing state: the code's verifier (PBKDF2, see service.h) and the wrong codes
+// tried since that code was issued.
+struct PairingRecord {
+  std::string verifier;
+  int failures = 0;
+};
+
 // What is written with every change, so listings and exports need no replay.
 struct SessionSummary {
   std::string state;
@@ -48,10 +55,15 @@ class SessionStore {
   static std::string path_in(const std::string& data_dir);  // data_dir/sessions.db
   const std::string& path() const;
 
-  void create(const StoredSession& session, const std::string& pairing_hash);
+  // Opening a version-1 file (before issue 15) adds the failure counter (0) in place.
+  void create(const StoredSession& session, const std::string& pairing_verifier);
   std::vector<std::string> ids() const;  // newest first
   std::optional<StoredSession> load(const std::string& id) const;
-  std::optional<std::string> pairing_hash(const std::string& id) const;
+  std::optional<PairingRecord> pairing(const std::string& id) const;
+  // One more wrong code for the session (one transaction); returns the new count.
+  int add_pairing_failure(const std::string& id);
+  // A new code's verifier; the failure count starts again at 0.
+  void set_pairing(const std::string& id, const std::string& verifier);
   bool contains(const std::string& id) const;
 
   // Each is one transaction. Throws Error(Io) when the write fails.
