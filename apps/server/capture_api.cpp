@@ -301,7 +301,7 @@ struct CaptureApi::Impl {
                    "from the desktop (Capture page: New code, or `caliper sessions pair " + id + "`) and pair again",
                "pairing_code", "pairing_locked");
       case PairingStatus::WrongCode:
-        remember_failure(key, now, true);
+        remember_failure(key, now, check.counted);  // a code already counted is not a new guess
         refuse(403,
                "wrong pairing code for this session (" + std::to_string(check.max_failures - check.failures) +
                    " more wrong codes lock it until the experimenter issues a new one)",

@@ -35,7 +35,10 @@ struct CaptureService::Caches {
   // session → (its code, the verifier it matched): a verifier changed by another process
   // (`caliper sessions pair`) makes the entry stale.
   caliper::detail::LruCache<std::string, std::pair<std::string, std::string>> verified;
-  Caches(std::size_t s, std::size_t v) : sessions(std::max<std::size_t>(1, s)), verified(std::max<std::size_t>(1, v)) {}
+  // session → (the verifier, the wrong codes counted against it): at most the budget per session.
+  caliper::detail::LruCache<std::string, std::pair<std::string, std::vector<std::string>>> wrong;
+  Caches(std::size_t s, std::size_t v)
+      : sessions(std::max<std::size_t>(1, s)), verified(std::max<std::size_t>(1, v)), wrong(std::max<std::size_t>(1, v)) {}
 };
 
 CaptureService::CaptureService(CaptureServiceOptions options)
@@ -79,6 +82,7 @@ Session* CaptureService::live(const std::string& id) {
 void CaptureService::forget(const std::string& id) {
   caches_->sessions.erase(id);
   caches_->verified.erase(id);
+  caches_->wrong.erase(id);
 }
 
 std::size_t CaptureService::cached_session_count() {
@@ -157,6 +161,12 @@ PairingCheck CaptureService::check_pairing(const std::string& id, const std::str
       out.status = PairingStatus::Paired;
       return true;
     }
+    if (const auto* tried = caches_->wrong.find(id); tried && tried->first == rec->verifier)
+      for (const std::string& w : tried->second)
+        if (equal_constant_time(w, code)) {
+          out.status = PairingStatus::WrongCode;
+          return true;
+        }
     return false;
   };
   {
@@ -183,11 +193,16 @@ PairingCheck CaptureService::check_pairing(const std::string& id, const std::str
     case detail::VerifierMatch::Unsupported:
       out.status = PairingStatus::Outdated;
       break;
-    case detail::VerifierMatch::Mismatch:
+    case detail::VerifierMatch::Mismatch: {
       out.status = PairingStatus::WrongCode;
+      out.counted = true;
       out.failures = store_->add_pairing_failure(id);
+      auto* tried = caches_->wrong.find(id);
+      if (!tried || tried->first != verifier) tried = &caches_->wrong.insert(id, {verifier, {}});
+      tried->second.push_back(code);
       if (out.failures >= options_.max_pairing_failures) out.status = PairingStatus::Locked;
       break;
+    }
   }
   return out;
 }
@@ -200,6 +215,7 @@ std::optional<std::string> CaptureService::reissue_pairing(const std::string& id
   if (!store_->contains(id)) return std::nullopt;
   store_->set_pairing(id, verifier);
   caches_->verified.insert(id, {code, verifier});
+  caches_->wrong.erase(id);
   return code;
 }
 

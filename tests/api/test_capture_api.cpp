@@ -217,8 +217,14 @@ TEST(CaptureApi, WritesNeedThePairingCode) {
   expect_error(call(api, "POST", "/api/sessions/" + id + "/entries", R"({"weight_kg": 60})", wrong), 403, "pairing_code");
   expect_error(call(api, "DELETE", "/api/sessions/" + id), 403, "pairing_code");
   EXPECT_EQ(call(api, "POST", "/api/sessions/" + id + "/samples", batch, code).status, 200);
+  // The same wrong code again is refused but is no new guess: it does not count.
+  for (int i = 0; i < 6; ++i) expect_error(call(api, "POST", "/api/sessions/" + id + "/undo", "", wrong), 403, "pairing_code");
   // Guessing is slowed down per device: after 5 wrong codes in a minute even the right one waits.
-  for (int i = 0; i < 3; ++i) expect_error(call(api, "POST", "/api/sessions/" + id + "/undo", "", wrong), 403, "pairing_code");
+  for (int i = 0; i < 4; ++i) {
+    std::string guess = wrong;
+    guess[0] = static_cast<char>('0' + (code[0] - '0' + 1 + i) % 10);
+    expect_error(call(api, "POST", "/api/sessions/" + id + "/undo", "", guess), 403, "pairing_code");
+  }
   const ApiResponse waiting = call(api, "POST", "/api/sessions/" + id + "/undo", "", code);
   expect_error(waiting, 429, "pairing_code");
   EXPECT_EQ(body_of(waiting)["error"]["kind"], "too_many_attempts");

@@ -59,6 +59,10 @@ struct PairingCheck {
   PairingStatus status = PairingStatus::NoSession;
   int failures = 0;      // wrong codes since the code was issued (after this check)
   int max_failures = 0;  // the budget (CaptureServiceOptions::max_pairing_failures)
+  // WrongCode: this code was counted now. A wrong code the session has already counted (a paired
+  // device still sending the code replaced by reissue_pairing) is refused without counting
+  // again: it tells a guesser nothing new.
+  bool counted = false;
   bool paired() const { return status == PairingStatus::Paired; }
 };
 
@@ -80,7 +84,8 @@ class CaptureService {
   std::optional<Session> find(const std::string& id);
   // Whether `code` is the session's pairing code. The verifier is PBKDF2 (about 0.1 s, one at a
   // time across sessions, so the budget is exact under concurrent guesses); a code verified
-  // before is recognised from memory. A wrong code is counted in the store (survives restarts).
+  // before is recognised from memory. A wrong code is counted in the store (survives restarts);
+  // only distinct wrong codes count (the ones counted are remembered in memory, per code issued).
   PairingCheck check_pairing(const std::string& id, const std::string& code);
   // A new code for the session (the experimenter's desktop or `caliper sessions pair`): the old
   // one stops working and the failure count starts again. nullopt when there is no such session.
