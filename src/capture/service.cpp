@@ -127,7 +127,7 @@ std::vector<Session> CaptureService::list() {
   // Sessions not live are rebuilt for the listing only: listing many sessions does not evict
   // the ones in use.
   for (const auto& id : store_->ids()) {
-    if (std::unique_ptr<Session>* cached = caches_->sessions.find(id)) out.push_back(**cached);
+    if (std::unique_ptr<Session>* cached = caches_->sessions.peek(id)) out.push_back(**cached);
     else if (std::unique_ptr<Session> s = load(id)) out.push_back(*s);
   }
   return out;

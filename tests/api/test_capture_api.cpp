@@ -294,7 +294,7 @@ TEST(CaptureApi, OnlyTheDesktopListsMeasurementsOthersNeedTheCode) {
   EXPECT_EQ(stub["state"], "floor");
   for (const char* hidden : {"values", "measurement_set", "weight_kg", "sex", "points", "step"})
     EXPECT_FALSE(stub.contains(hidden)) << hidden << " in " << stub.dump();
-  for (const std::string& desktop : {"127.0.0.1", "::1", "::ffff:127.0.0.1"}) {
+  for (const char* desktop : {"127.0.0.1", "::1", "::ffff:127.0.0.1"}) {
     const json full = body_of(call(api, "GET", "/api/sessions", {}, {}, {}, desktop));
     EXPECT_EQ(full["sessions"][0]["measurement_set"]["weight"], 61.5) << desktop;
     EXPECT_EQ(call(api, "GET", "/api/sessions/" + id, {}, {}, {}, desktop).status, 200) << desktop;
@@ -305,7 +305,7 @@ TEST(CaptureApi, OnlyTheDesktopListsMeasurementsOthersNeedTheCode) {
   same_machine.path = "/api/sessions";
   same_machine.remote_address = same_machine.local_address = "192.168.1.23";
   EXPECT_EQ(body_of(api.handle(same_machine))["sessions"][0]["sex"], "female");
-  for (const std::string path : {"/api/sessions/" + id, "/api/sessions/" + id + "/export"}) {
+  for (const std::string& path : std::vector<std::string>{"/api/sessions/" + id, "/api/sessions/" + id + "/export"}) {
     expect_error(call(api, "GET", path), 403, "pairing_code");
     std::string wrong = code;
     wrong[2] = wrong[2] == '0' ? '1' : '0';

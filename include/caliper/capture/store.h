@@ -44,7 +44,8 @@ class SessionStore {
  public:
   // Opens `path`, creating it (and its folder) when absent. Throws Error(Format) naming the path
   // when the file is not SQLite, is corrupt, or is another application's database (it is never
-  // modified then), and Error(Io) when it cannot be opened or created.
+  // modified then), and Error(Io) when it cannot be opened or created. A schema-1 file (before
+  // issue 15) is upgraded in place: the wrong-code counter is added, at 0.
   explicit SessionStore(const std::string& path);
   ~SessionStore();
   SessionStore(const SessionStore&) = delete;
@@ -55,7 +56,6 @@ class SessionStore {
   static std::string path_in(const std::string& data_dir);  // data_dir/sessions.db
   const std::string& path() const;
 
-  // Opening a version-1 file (before issue 15) adds the failure counter (0) in place.
   void create(const StoredSession& session, const std::string& pairing_verifier);
   std::vector<std::string> ids() const;  // newest first
   std::optional<StoredSession> load(const std::string& id) const;

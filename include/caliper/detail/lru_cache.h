@@ -25,6 +25,11 @@ class LruCache {
     items_.splice(items_.begin(), items_, it->second);
     return &it->second->second;
   }
+  // The value without making it the most recently used (e.g. for a listing); nullptr when absent.
+  Value* peek(const Key& key) {
+    auto it = index_.find(key);
+    return it == index_.end() ? nullptr : &it->second->second;
+  }
   bool contains(const Key& key) const { return index_.count(key) != 0; }
 
   // Inserts or replaces; the least recently used entries beyond the capacity are dropped.
