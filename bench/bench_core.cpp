@@ -34,7 +34,7 @@ void BM_TrainFourPresets(benchmark::State& state) {
   const auto model = female_model();
   for (auto _ : state) {
     AvatarBuilder builder(model);  // fresh: nothing cached
-    for (const auto& p : preset_names()) benchmark::DoNotOptimize(&builder.regressor(p, preset_inputs(p)));
+    for (const auto& p : preset_names()) benchmark::DoNotOptimize(builder.regressor(p, preset_inputs(p)).get());
   }
 }
 BENCHMARK(BM_TrainFourPresets)->Unit(benchmark::kMillisecond);

@@ -46,10 +46,19 @@ std::string population_description(const BodyModel& model) {
 
 }  // namespace
 
-const Regressor& AvatarBuilder::regressor(const std::string& name, const std::vector<std::string>& inputs) const {
+std::size_t AvatarBuilder::custom_regressor_count() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  auto it = regressors_.find(name);
-  if (it != regressors_.end()) return *it->second;
+  return custom_.size();
+}
+
+std::shared_ptr<const Regressor> AvatarBuilder::regressor(const std::string& name, const std::vector<std::string>& inputs) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const bool preset = std::find(preset_names().begin(), preset_names().end(), name) != preset_names().end();
+  if (preset) {
+    if (auto it = presets_.find(name); it != presets_.end()) return it->second;
+  } else {
+    if (const auto* cached = custom_.find(name)) return *cached;
+  }
   for (const auto& m : inputs)
     if (!model_->find_measurement(m))
       throw Error(ErrorKind::Unsupported, "model '" + model_->name() + "' cannot measure '" + m + "'", m);
@@ -75,10 +84,14 @@ const Regressor& AvatarBuilder::regressor(const std::string& name, const std::ve
       design_->feature_names.insert(design_->feature_names.end(), missing.begin(), missing.end());
     }
   }
-  auto r = std::make_unique<Regressor>(*design_, inputs, name);
-  const Regressor& ref = *r;
-  regressors_[name] = std::move(r);
-  return ref;
+  // The design's columns are bounded by the catalogue (one per measurement), so it is kept whole.
+  auto r = std::make_shared<const Regressor>(*design_, inputs, name);
+  if (preset) {
+    presets_[name] = r;
+  } else {
+    custom_.insert(name, r);  // the least recently used beyond kMaxCustomRegressors is dropped
+  }
+  return r;
 }
 
 Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
@@ -185,13 +198,13 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   for (const auto& m : inputs)
     if (!request.measurements.count(m))
       throw Error(ErrorKind::Unsupported, "regressor " + key + " needs " + m + ", which was not given", m);
-  const Regressor& r = regressor(key, inputs);
+  const std::shared_ptr<const Regressor> r = regressor(key, inputs);
   avatar.regressor = key;
   avatar.inputs = inputs;
   avatar.targets = request.measurements;
   avatar.model_maps = maps_;
   if (request.apply_model_maps) maps_.apply(avatar.targets);
-  avatar.beta = r.predict(*model_, avatar.targets);
+  avatar.beta = r->predict(*model_, avatar.targets);
   finish(request, avatar);
   warn_about_inputs(avatar);
   return avatar;

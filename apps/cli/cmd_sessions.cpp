@@ -1,4 +1,4 @@
-// `caliper sessions list|export|delete`: capture sessions (docs/capture.md) stored by
+// `caliper sessions list|export|pair|delete`: capture sessions (docs/capture.md) stored by
 // `caliper serve` in the data folder's sessions.db.
 #include <filesystem>
 #include <iomanip>
@@ -45,7 +45,7 @@ capture::Session find_or_throw(capture::CaptureService& svc, const std::string& 
 
 void register_sessions(CLI::App& app) {
   auto data_dir = std::make_shared<std::string>();
-  CLI::App* cmd = app.add_subcommand("sessions", "List, export or delete capture sessions (measured in VR with `caliper serve`)");
+  CLI::App* cmd = app.add_subcommand("sessions", "List, export, re-pair or delete capture sessions (measured in VR with `caliper serve`)");
   cmd->add_option("--data", *data_dir, "data folder holding sessions.db (default: $XDG_DATA_HOME/caliper or ~/.local/share/caliper)");
   cmd->require_subcommand(1);
   cmd->fallthrough();  // `caliper sessions list --data DIR` as well as `caliper sessions --data DIR list`
@@ -100,6 +100,18 @@ void register_sessions(CLI::App& app) {
       write_file(*output, text);
       std::cout << "wrote " << *output << "\n";
     }
+  });
+
+  auto pair_id = std::make_shared<std::string>();
+  CLI::App* pair = cmd->add_subcommand(
+      "pair", "Issue a new pairing code for a session (the old code stops working; unlocks a session locked by wrong codes)");
+  pair->add_option("id", *pair_id, "session id (s-…)")->required();
+  pair->callback([=] {
+    auto svc = open_existing(*data_dir);
+    find_or_throw(existing_or_throw(svc, *data_dir, *pair_id), *pair_id);
+    const auto code = svc->reissue_pairing(*pair_id);
+    if (!code) throw Error(ErrorKind::InvalidArgument, "no capture session '" + *pair_id + "'", "id");
+    std::cout << "new pairing code for " << *pair_id << ": " << *code << "\n";
   });
 
   auto del_id = std::make_shared<std::string>();

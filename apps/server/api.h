@@ -20,6 +20,7 @@ struct ApiRequest {
   std::string content_type;                   // as sent, e.g. "application/json"
   std::map<std::string, std::string> headers; // names lower-cased (e.g. "x-caliper-pairing")
   std::string remote_address;                 // the client's IP address, when known
+  std::string local_address;                  // the server's address the client connected to, when known
 };
 
 struct ApiResponse {

@@ -1,7 +1,9 @@
 // Capture endpoints (issue 6; docs/api.md "Capture sessions"): sessions created by a desktop or a
 // headset page, fed with WebXR controller samples, undone/redone, completed with sex and weight,
-// exported as measurement sets. Every write needs the session's pairing code
-// (X-Caliper-Pairing); repeated wrong codes are slowed down per session.
+// exported as measurement sets. Every write, and every read of a session's measurements from
+// another machine than the server's, needs the session's pairing code (X-Caliper-Pairing); each
+// session accepts a limited number of wrong codes from all clients together, then locks until the
+// experimenter's desktop issues a new code (docs/api.md "Pairing").
 #include "capture_api.h"
 
 #include <chrono>
@@ -206,10 +208,34 @@ ordered_json event_json(const CaptureEvent& e) {
 }
 
 // Wrong pairing codes per session and client address: after kMaxFailures within kWindow, that
-// client's writes to that session are refused (429) until the window passes, so the 10^6 codes
-// cannot be walked through, and a device guessing codes locks out only itself, not the headset.
-constexpr int kMaxFailures = 10;
+// client's requests to that session are refused (429) until the window passes: a device typing
+// codes wrongly in a burst is paused before it alone spends the session's budget. What bounds
+// guessing is that budget (CaptureService: 10 in all), which no change of address escapes. The
+// table holds at most kMaxFailureKeys (session, address) pairs.
+constexpr int kMaxFailures = 5;
 constexpr auto kWindow = std::chrono::seconds(60);
+constexpr size_t kMaxFailureKeys = 4096;
+
+// The experimenter's desktop: a client on the server's own machine (loopback, or connected to the
+// server's address from that address). Only it may list sessions with their measurements, read a
+// session without its code and issue a new code. TCP does not let another machine on the network
+// pose as one of these addresses.
+bool is_loopback(const std::string& a) {
+  return a == "::1" || a.rfind("127.", 0) == 0 || a.rfind("::ffff:127.", 0) == 0;
+}
+bool is_desktop(const ApiRequest& req) {
+  return is_loopback(req.remote_address) || (!req.remote_address.empty() && req.remote_address == req.local_address);
+}
+
+// What a device that is not the desktop sees of a session it has no code for: enough to pick it
+// from a list and join it, none of the person's data.
+ordered_json session_stub_json(const Session& s) {
+  return {{"id", s.id},
+          {"mode", to_string(s.protocol.config().mode)},
+          {"steps", to_string(s.protocol.config().steps)},
+          {"created", s.created},
+          {"state", to_string(s.protocol.state())}};
+}
 
 }  // namespace
 
@@ -239,7 +265,8 @@ struct CaptureApi::Impl {
     return *service_ptr;
   }
 
-  void require_pairing(const ApiRequest& req, const std::string& id) const {
+  // Refuses (403, 423 or 429) unless the request carries the session's pairing code.
+  void require_pairing(const ApiRequest& req, const std::string& id, const char* what = "this write") const {
     const auto now = std::chrono::steady_clock::now();
     const std::string key = req.remote_address + " " + id;
     {
@@ -254,16 +281,69 @@ struct CaptureApi::Impl {
     }
     auto it = req.headers.find("x-caliper-pairing");
     if (it == req.headers.end() || it->second.empty())
-      refuse(403, "this write needs the session's pairing code in the X-Caliper-Pairing header", "pairing_code", "forbidden");
-    if (!service().check_pairing(id, it->second)) {
-      std::lock_guard<std::mutex> lock(failures_mutex);
-      failures[key].push_back(now);
-      refuse(403, "wrong pairing code for this session", "pairing_code", "forbidden");
+      refuse(403, std::string(what) + " needs the session's pairing code in the X-Caliper-Pairing header", "pairing_code", "forbidden");
+    const PairingCheck check = service().check_pairing(id, it->second);
+    switch (check.status) {
+      case PairingStatus::Paired:
+        return;
+      case PairingStatus::NoSession:
+        throw Refusal{404, "no capture session '" + id + "'", "id", "not_found"};
+      case PairingStatus::Outdated:
+        refuse(423,
+               "this session's pairing code was stored by an older Caliper in a form that is no longer accepted; the "
+               "experimenter must issue a new code from the desktop (Capture page: New code, or `caliper sessions pair " +
+                   id + "`)",
+               "pairing_code", "pairing_locked");
+      case PairingStatus::Locked:
+        refuse(423,
+               "this session is locked after " + std::to_string(check.max_failures) +
+                   " wrong pairing codes and refuses every code, the right one too; the experimenter must issue a new code "
+                   "from the desktop (Capture page: New code, or `caliper sessions pair " + id + "`) and pair again",
+               "pairing_code", "pairing_locked");
+      case PairingStatus::WrongCode:
+        remember_failure(key, now, check.counted);  // a code already counted is not a new guess
+        refuse(403,
+               "wrong pairing code for this session (" + std::to_string(check.max_failures - check.failures) +
+                   " more wrong codes lock it until the experimenter issues a new one)",
+               "pairing_code", "forbidden");
     }
   }
 
-  static ApiResponse not_found(const std::string& id) {
+  void remember_failure(const std::string& key, std::chrono::steady_clock::time_point now, bool wrong) const {
+    if (!wrong) return;
+    std::lock_guard<std::mutex> lock(failures_mutex);
+    if (failures.size() >= kMaxFailureKeys) {  // bounded: expired entries go first, then any
+      for (auto f = failures.begin(); f != failures.end();)
+        f = f->second.empty() || now - f->second.back() > kWindow ? failures.erase(f) : std::next(f);
+      while (failures.size() >= kMaxFailureKeys) failures.erase(failures.begin());
+    }
+    failures[key].push_back(now);
+  }
+
+  // Reads of a session's data: the desktop, or a device with the session's code.
+  void require_read_access(const ApiRequest& req, const std::string& id) const {
+    if (is_desktop(req)) return;
+    require_pairing(req, id, "reading a session from another device than the server's");
+  }
+
+  ApiResponse reissue(const ApiRequest& req, const std::string& id) const {
+    if (!is_desktop(req))
+      refuse(403,
+             "only the experimenter's desktop (a browser on the machine running caliper serve) may issue a new pairing code",
+             "pairing_code", "forbidden");
+    const std::optional<std::string> code = service().reissue_pairing(id);
+    if (!code) return not_found(id);
+    auto s = service().find(id);
+    if (!s) return not_found(id);
+    return json_response({{"session", session_json(*s, true)}, {"pairing_code", *code}});
+  }
+
+  [[noreturn]] static ApiResponse not_found(const std::string& id) {
     throw Refusal{404, "no capture session '" + id + "'", "id", "not_found"};
+  }
+
+  void exists(const std::string& id) const {
+    if (!service().find(id)) not_found(id);
   }
 
   ApiResponse profiles() const {
@@ -287,9 +367,10 @@ struct CaptureApi::Impl {
     return json_response({{"session", session_json(c.session, true)}, {"pairing_code", c.pairing_code}}, 201);
   }
 
-  ApiResponse list() const {
+  ApiResponse list(const ApiRequest& req) const {
+    const bool desktop = is_desktop(req);
     ordered_json arr = ordered_json::array();
-    for (const auto& s : service().list()) arr.push_back(session_json(s, false));
+    for (const auto& s : service().list()) arr.push_back(desktop ? session_json(s, false) : session_stub_json(s));
     return json_response({{"sessions", arr}});
   }
 
@@ -326,6 +407,8 @@ struct CaptureApi::Impl {
     auto it = req.query.find("format");
     const std::string format = it == req.query.end() ? "json" : it->second;
     if (format != "json" && format != "csv") refuse(400, "format must be json or csv", "format");
+    exists(id);
+    require_read_access(req, id);
     auto s = service().find(id);
     if (!s) return not_found(id);
     const MeasurementSetFile set = measurement_set_of(s->protocol);
@@ -349,7 +432,7 @@ struct CaptureApi::Impl {
       return profiles();
     }
     if (path == "/api/sessions") {
-      if (m == "GET") return list();
+      if (m == "GET") return list(req);
       if (m == "POST") return create(req);
       refuse(405, m + " is not allowed on " + path + " (use GET or POST)", "method", "method_not_allowed");
     }
@@ -363,11 +446,11 @@ struct CaptureApi::Impl {
     auto allow = [&](const char* method) {
       if (m != method) refuse(405, m + " is not allowed on " + path + " (use " + method + ")", "method", "method_not_allowed");
     };
-    auto exists = [&] {
-      if (!service().find(id)) not_found(id);
-    };
+    auto exists = [&] { this->exists(id); };
     if (action.empty()) {
       if (m == "GET") {
+        exists();
+        require_read_access(req, id);
         auto s = service().find(id);
         if (!s) return not_found(id);
         return json_response({{"session", session_json(*s, true)}});
@@ -386,6 +469,10 @@ struct CaptureApi::Impl {
     if (action == "export") {
       allow("GET");
       return export_set(req, id);
+    }
+    if (action == "pairing") {
+      allow("POST");
+      return reissue(req, id);
     }
     if (action == "samples" || action == "undo" || action == "redo" || action == "entries") {
       allow("POST");

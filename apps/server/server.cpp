@@ -55,6 +55,7 @@ struct Server::Impl {
       a.headers.emplace(key, value);
     }
     a.remote_address = req.remote_addr;
+    a.local_address = req.local_addr;
     send(res, api.handle(a));
   }
 

@@ -1,12 +1,14 @@
 // From measurements to an avatar: the whole pipeline behind `caliper avatar`, the server and the
 // evaluation. Regressors are trained lazily per model and kept (thread-safe) for reuse.
 #pragma once
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
 
 #include "caliper/body/body_model.h"
+#include "caliper/detail/lru_cache.h"
 #include "caliper/protocol/real_to_virtual.h"
 #include "caliper/regress/map_estimator.h"
 #include "caliper/regress/regressor.h"
@@ -74,15 +76,20 @@ class AvatarBuilder {
   // model lacks, Error(InvalidArgument) for an unknown regressor name or noise setting.
   Avatar build(const AvatarRequest& request) const;
 
-  // Trained regressor by name (trains on first use; the corner design is shared).
-  const Regressor& regressor(const std::string& name, const std::vector<std::string>& inputs) const;
+  // Trained regressor by name (trains on first use; the corner design is shared). The paper's
+  // presets (R2…R6) are kept for the builder's lifetime; other input lists ("custom:…") are kept
+  // in a least-recently-used cache of kMaxCustomRegressors and retrained when asked again.
+  std::shared_ptr<const Regressor> regressor(const std::string& name, const std::vector<std::string>& inputs) const;
+  static constexpr std::size_t kMaxCustomRegressors = 32;
+  std::size_t custom_regressor_count() const;  // custom regressors held now (≤ kMaxCustomRegressors)
 
  private:
   std::shared_ptr<const BodyModel> model_;
   RealToVirtual maps_;
   mutable std::mutex mutex_;
   mutable std::unique_ptr<CornerDesign> design_;
-  mutable std::map<std::string, std::unique_ptr<Regressor>> regressors_;
+  mutable std::map<std::string, std::shared_ptr<const Regressor>> presets_;
+  mutable detail::LruCache<std::string, std::shared_ptr<const Regressor>> custom_{kMaxCustomRegressors};
   MapEstimator map_;  // const and thread-safe: no lock needed
 
   Avatar build_map(const AvatarRequest& request) const;

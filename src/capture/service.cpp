@@ -2,11 +2,12 @@
 // the same call (one transaction per event), sessions rebuilt from their stored points.
 #include "caliper/capture/service.h"
 
+#include <algorithm>
 #include <ctime>
-#include <random>
 
 #include "caliper/errors.h"
-#include "sha256.h"
+#include "caliper/detail/lru_cache.h"
+#include "pairing_verifier.h"
 #include "utc_time.h"
 
 namespace caliper::capture {
@@ -15,24 +16,8 @@ namespace {
 
 using detail::now_iso;
 
-// Identifiers and codes come from the OS's entropy source: they guard who may write.
-std::string random_digits(int n, std::random_device& rd) {
-  std::uniform_int_distribution<int> digit(0, 9);
-  std::string s;
-  for (int i = 0; i < n; ++i) s += static_cast<char>('0' + digit(rd));
-  return s;
-}
-
-std::string random_hex(int n, std::random_device& rd) {
-  static const char* hex = "0123456789abcdef";
-  std::uniform_int_distribution<int> nibble(0, 15);
-  std::string s;
-  for (int i = 0; i < n; ++i) s += hex[nibble(rd)];
-  return s;
-}
-
-// "salt$sha256(salt + code)"
-std::string hash_code(const std::string& code, const std::string& salt) { return salt + "$" + detail::sha256_hex(salt + code); }
+// Session ids: public handles (listed to the desktop), from the OS's entropy source.
+std::string random_id() { return "s-" + detail::random_hex_bytes(6); }
 
 bool equal_constant_time(const std::string& a, const std::string& b) {
   if (a.size() != b.size()) return false;
@@ -45,7 +30,21 @@ SessionSummary summary_of(const CaptureProtocol& p) { return {to_string(p.state(
 
 }  // namespace
 
-CaptureService::CaptureService(CaptureServiceOptions options) : options_(std::move(options)) {
+struct CaptureService::Caches {
+  caliper::detail::LruCache<std::string, std::unique_ptr<Session>> sessions;
+  // session → (its code, the verifier it matched): a verifier changed by another process
+  // (`caliper sessions pair`) makes the entry stale.
+  caliper::detail::LruCache<std::string, std::pair<std::string, std::string>> verified;
+  // session → (the verifier, the wrong codes counted against it): at most the budget per session.
+  caliper::detail::LruCache<std::string, std::pair<std::string, std::vector<std::string>>> wrong;
+  Caches(std::size_t s, std::size_t v)
+      : sessions(std::max<std::size_t>(1, s)), verified(std::max<std::size_t>(1, v)), wrong(std::max<std::size_t>(1, v)) {}
+};
+
+CaptureService::CaptureService(CaptureServiceOptions options)
+    : options_(std::move(options)), caches_(std::make_unique<Caches>(options_.max_cached_sessions, options_.max_verified_codes)) {
+  if (options_.max_pairing_failures < 1)
+    throw Error(ErrorKind::InvalidArgument, "max_pairing_failures must be at least 1", "max_pairing_failures");
   const std::string path = options_.database.empty() ? SessionStore::default_path() : options_.database;
   store_ = std::make_unique<SessionStore>(path);
 }
@@ -54,14 +53,7 @@ CaptureService::~CaptureService() = default;
 
 const std::string& CaptureService::database_path() const { return store_->path(); }
 
-Session* CaptureService::live(const std::string& id) {
-  auto it = sessions_.find(id);
-  if (it != sessions_.end()) {
-    // Another process (`caliper sessions delete`) may have removed it from the store since.
-    if (store_->contains(id)) return it->second.get();
-    sessions_.erase(it);
-    return nullptr;
-  }
+std::unique_ptr<Session> CaptureService::load(const std::string& id) const {
   std::optional<StoredSession> stored = store_->load(id);
   if (!stored) return nullptr;
   CaptureProtocol::Config config;
@@ -72,9 +64,30 @@ Session* CaptureService::live(const std::string& id) {
   s->protocol.restore(std::move(stored->points), std::move(stored->redo));
   if (stored->sex) s->protocol.set_sex(*stored->sex);
   if (stored->weight_kg) s->protocol.set_weight_kg(*stored->weight_kg);
-  Session* raw = s.get();
-  sessions_[id] = std::move(s);
-  return raw;
+  return s;
+}
+
+Session* CaptureService::live(const std::string& id) {
+  if (std::unique_ptr<Session>* cached = caches_->sessions.find(id)) {
+    // Another process (`caliper sessions delete`) may have removed it from the store since.
+    if (store_->contains(id)) return cached->get();
+    forget(id);
+    return nullptr;
+  }
+  std::unique_ptr<Session> s = load(id);
+  if (!s) return nullptr;
+  return caches_->sessions.insert(id, std::move(s)).get();
+}
+
+void CaptureService::forget(const std::string& id) {
+  caches_->sessions.erase(id);
+  caches_->verified.erase(id);
+  caches_->wrong.erase(id);
+}
+
+std::size_t CaptureService::cached_session_count() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return caches_->sessions.size();
 }
 
 CaptureService::Created CaptureService::create(const NewSession& r) {
@@ -89,9 +102,9 @@ CaptureService::Created CaptureService::create(const NewSession& r) {
   if (r.sex) protocol.set_sex(*r.sex);
   if (r.weight_kg) protocol.set_weight_kg(*r.weight_kg);
 
+  Created out{Session{random_id(), now_iso(), profile, protocol}, detail::random_decimal_digits(6)};
+  const std::string verifier = detail::make_pairing_verifier(out.pairing_code);  // PBKDF2: outside the lock
   std::lock_guard<std::mutex> lock(mutex_);
-  std::random_device rd;
-  Created out{Session{"s-" + random_hex(12, rd), now_iso(), profile, protocol}, random_digits(6, rd)};
   StoredSession ss;
   ss.id = out.session.id;
   ss.created = out.session.created;
@@ -102,16 +115,21 @@ CaptureService::Created CaptureService::create(const NewSession& r) {
   ss.weight_kg = protocol.weight_kg();
   ss.state = to_string(protocol.state());
   ss.values = protocol.measurement_set();
-  store_->create(ss, hash_code(out.pairing_code, random_hex(16, rd)));
-  sessions_[ss.id] = std::make_unique<Session>(out.session);
+  store_->create(ss, verifier);
+  caches_->sessions.insert(ss.id, std::make_unique<Session>(out.session));
+  caches_->verified.insert(ss.id, {out.pairing_code, verifier});
   return out;
 }
 
 std::vector<Session> CaptureService::list() {
   std::lock_guard<std::mutex> lock(mutex_);
   std::vector<Session> out;
-  for (const auto& id : store_->ids())
-    if (Session* s = live(id)) out.push_back(*s);
+  // Sessions not live are rebuilt for the listing only: listing many sessions does not evict
+  // the ones in use.
+  for (const auto& id : store_->ids()) {
+    if (std::unique_ptr<Session>* cached = caches_->sessions.peek(id)) out.push_back(**cached);
+    else if (std::unique_ptr<Session> s = load(id)) out.push_back(*s);
+  }
   return out;
 }
 
@@ -122,13 +140,83 @@ std::optional<Session> CaptureService::find(const std::string& id) {
   return *s;
 }
 
-bool CaptureService::check_pairing(const std::string& id, const std::string& code) {
+PairingCheck CaptureService::check_pairing(const std::string& id, const std::string& code) {
+  PairingCheck out;
+  out.max_failures = options_.max_pairing_failures;
+  // Known without PBKDF2: no session, a spent budget, an outdated verifier, a code verified before.
+  auto quick = [&]() -> bool {
+    const std::optional<PairingRecord> rec = store_->pairing(id);
+    if (!rec) {
+      out.status = PairingStatus::NoSession;
+      return true;
+    }
+    out.failures = rec->failures;
+    if (rec->failures >= options_.max_pairing_failures) {
+      out.status = PairingStatus::Locked;
+      caches_->verified.erase(id);
+      return true;
+    }
+    if (const auto* known = caches_->verified.find(id);
+        known && known->second == rec->verifier && equal_constant_time(known->first, code)) {
+      out.status = PairingStatus::Paired;
+      return true;
+    }
+    if (const auto* tried = caches_->wrong.find(id); tried && tried->first == rec->verifier)
+      for (const std::string& w : tried->second)
+        if (equal_constant_time(w, code)) {
+          out.status = PairingStatus::WrongCode;
+          return true;
+        }
+    return false;
+  };
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (quick()) return out;
+  }
+  // One verification at a time: every wrong code is counted before the next one is tried, so
+  // concurrent guesses cannot overshoot the budget. The session lock is not held meanwhile, so
+  // paired devices (verified from memory) are not slowed down by guessers.
+  std::lock_guard<std::mutex> verifying(verify_mutex_);
+  std::string verifier;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (quick()) return out;
+    verifier = store_->pairing(id)->verifier;
+  }
+  const detail::VerifierMatch match = detail::match_pairing_verifier(verifier, code);
   std::lock_guard<std::mutex> lock(mutex_);
-  const std::optional<std::string> stored = store_->pairing_hash(id);
-  if (!stored) return false;
-  const size_t dollar = stored->find('$');
-  if (dollar == std::string::npos) return false;
-  return equal_constant_time(hash_code(code, stored->substr(0, dollar)), *stored);
+  switch (match) {
+    case detail::VerifierMatch::Match:
+      out.status = PairingStatus::Paired;
+      caches_->verified.insert(id, {code, verifier});
+      break;
+    case detail::VerifierMatch::Unsupported:
+      out.status = PairingStatus::Outdated;
+      break;
+    case detail::VerifierMatch::Mismatch: {
+      out.status = PairingStatus::WrongCode;
+      out.counted = true;
+      out.failures = store_->add_pairing_failure(id);
+      auto* tried = caches_->wrong.find(id);
+      if (!tried || tried->first != verifier) tried = &caches_->wrong.insert(id, {verifier, {}});
+      tried->second.push_back(code);
+      if (out.failures >= options_.max_pairing_failures) out.status = PairingStatus::Locked;
+      break;
+    }
+  }
+  return out;
+}
+
+std::optional<std::string> CaptureService::reissue_pairing(const std::string& id) {
+  const std::string code = detail::random_decimal_digits(6);
+  const std::string verifier = detail::make_pairing_verifier(code);
+  std::lock_guard<std::mutex> verifying(verify_mutex_);  // no verification of the old code runs across it
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!store_->contains(id)) return std::nullopt;
+  store_->set_pairing(id, verifier);
+  caches_->verified.insert(id, {code, verifier});
+  caches_->wrong.erase(id);
+  return code;
 }
 
 std::optional<CaptureService::FeedResult> CaptureService::feed(const std::string& id, const std::vector<ControllerSample>& samples,
@@ -162,7 +250,7 @@ std::optional<CaptureService::FeedResult> CaptureService::feed(const std::string
         store_->append_point(id, *e.point, summary_of(replay));
       }
     } catch (...) {
-      sessions_.erase(id);
+      caches_->sessions.erase(id);
       throw;
     }
   }
@@ -184,7 +272,7 @@ std::optional<Session> CaptureService::step(const std::string& id, bool* changed
       if (forward) store_->redo_point(id, summary_of(s->protocol));
       else store_->undo_point(id, summary_of(s->protocol));
     } catch (...) {
-      sessions_.erase(id);  // memory and store disagree now: reload from the store next time
+      caches_->sessions.erase(id);  // memory and store disagree now: reload from the store next time
       throw;
     }
   }
@@ -205,7 +293,7 @@ std::optional<Session> CaptureService::set_entries(const std::string& id, std::o
 
 bool CaptureService::remove(const std::string& id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  sessions_.erase(id);
+  forget(id);
   return store_->remove(id);
 }
 

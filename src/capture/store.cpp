@@ -16,7 +16,10 @@ namespace caliper::capture {
 namespace {
 
 constexpr int kApplicationId = 0x43616C69;  // "Cali"
-constexpr int kSchemaVersion = 1;
+// 2 (issue 15): sessions.pairing_failures, wrong pairing codes since the code was issued;
+// pairing_hash holds a PBKDF2 verifier. Version 1 files are migrated when opened (their SHA-256
+// verifiers stay and are refused at pairing until the experimenter re-issues a code).
+constexpr int kSchemaVersion = 2;
 
 const char* kSchema = R"sql(
 CREATE TABLE sessions (
@@ -27,6 +30,7 @@ CREATE TABLE sessions (
   steps TEXT NOT NULL,
   profile TEXT NOT NULL,
   pairing_hash TEXT NOT NULL,
+  pairing_failures INTEGER NOT NULL DEFAULT 0,
   sex TEXT,
   weight_kg REAL,
   state TEXT NOT NULL
@@ -195,7 +199,7 @@ SessionStore::SessionStore(const std::string& path) : impl_(std::make_unique<Imp
       if (verdict != "ok")
         throw Error(ErrorKind::Format, "sessions database '" + path + "' is corrupt (" + verdict + "); it was left untouched", "database");
       const long long version = s.pragma_int("PRAGMA user_version");
-      if (version != kSchemaVersion)
+      if (version != kSchemaVersion && version != 1)
         throw Error(ErrorKind::Format,
                     "sessions database '" + path + "' has schema version " + std::to_string(version) + "; this Caliper reads version " +
                         std::to_string(kSchemaVersion),
@@ -204,6 +208,12 @@ SessionStore::SessionStore(const std::string& path) : impl_(std::make_unique<Imp
     s.exec("PRAGMA journal_mode = WAL");
     s.exec("PRAGMA synchronous = FULL");  // a committed event survives a power cut, not only a kill
     s.exec("PRAGMA foreign_keys = ON");
+    if (app_id == kApplicationId && s.pragma_int("PRAGMA user_version") == 1) {
+      s.transaction([&] {
+        s.exec("ALTER TABLE sessions ADD COLUMN pairing_failures INTEGER NOT NULL DEFAULT 0");
+        s.exec(("PRAGMA user_version = " + std::to_string(kSchemaVersion)).c_str());
+      });
+    }
     if (app_id == 0) {
       s.transaction([&] {
         s.exec(kSchema);
@@ -298,11 +308,30 @@ std::optional<StoredSession> SessionStore::load(const std::string& id) const {
   return ss;
 }
 
-std::optional<std::string> SessionStore::pairing_hash(const std::string& id) const {
-  Stmt q(impl_->db, "SELECT pairing_hash FROM sessions WHERE id = ?1");
+std::optional<PairingRecord> SessionStore::pairing(const std::string& id) const {
+  Stmt q(impl_->db, "SELECT pairing_hash, pairing_failures FROM sessions WHERE id = ?1");
   q.bind(1, id);
   if (!q.step()) return std::nullopt;
-  return q.text(0);
+  return PairingRecord{q.text(0), static_cast<int>(q.integer(1))};
+}
+
+int SessionStore::add_pairing_failure(const std::string& id) {
+  Impl& s = *impl_;
+  int failures = 0;
+  s.transaction([&] {
+    Stmt(s.db, "UPDATE sessions SET pairing_failures = pairing_failures + 1 WHERE id = ?1").bind(1, id).step();
+    Stmt q(s.db, "SELECT pairing_failures FROM sessions WHERE id = ?1");
+    q.bind(1, id);
+    if (q.step()) failures = static_cast<int>(q.integer(0));
+  });
+  return failures;
+}
+
+void SessionStore::set_pairing(const std::string& id, const std::string& verifier) {
+  Impl& s = *impl_;
+  s.transaction([&] {
+    Stmt(s.db, "UPDATE sessions SET pairing_hash = ?1, pairing_failures = 0 WHERE id = ?2").bind(1, verifier).bind(2, id).step();
+  });
 }
 
 bool SessionStore::contains(const std::string& id) const {

@@ -1,6 +1,8 @@
 // The capture endpoints (docs/api.md "Capture sessions"): a scripted person measured through
 // the JSON API (values checked against the person's landmarks), pairing (403 without or with a
-// wrong code, 429 after repeated wrong codes), bad input (null/NaN, malformed JSON, huge batches,
+// wrong code, 429 after repeated wrong codes from one address, 423 once a session's budget of
+// wrong codes is spent, whatever the addresses; a new code from the desktop only), who may read
+// what (the desktop lists and reads everything; other devices see stubs and need the code), bad input (null/NaN, malformed JSON, huge batches,
 // unknown fields → 4xx naming the field), a server dropped mid-session and a new one resuming,
 // and the same over real HTTP and HTTPS (headers reach the API; the self-signed certificate works).
 #include <gtest/gtest.h>
@@ -117,7 +119,7 @@ TEST(CaptureApi, AScriptedPersonMeasuredThroughTheApi) {
   Api api(options_for(dir / "s.db"));
   const auto [id, code] = create(api, {{"mode", "self"}, {"steps", "core"}});
   ASSERT_EQ(code.size(), 6u);
-  json s = body_of(call(api, "GET", "/api/sessions/" + id))["session"];
+  json s = body_of(call(api, "GET", "/api/sessions/" + id, {}, code))["session"];
   EXPECT_EQ(s["state"], "floor");
   EXPECT_EQ(s["step"]["name"], "floor");
   EXPECT_EQ(s["step"]["kind"], "floor");
@@ -147,7 +149,7 @@ TEST(CaptureApi, AScriptedPersonMeasuredThroughTheApi) {
   EXPECT_EQ(steps, 6);
   EXPECT_EQ(done, 1);
 
-  s = body_of(call(api, "GET", "/api/sessions/" + id))["session"];
+  s = body_of(call(api, "GET", "/api/sessions/" + id, {}, code))["session"];
   EXPECT_EQ(s["state"], "entries");
   EXPECT_TRUE(s["step"].is_null());
   EXPECT_EQ(s["values"]["stature"]["repetitions_cm"].size(), 2u);
@@ -159,7 +161,7 @@ TEST(CaptureApi, AScriptedPersonMeasuredThroughTheApi) {
   EXPECT_EQ(s["measurement_set"]["weight"], 70.5);
 
   for (const std::string format : {"json", "csv"}) {
-    const ApiResponse e = call(api, "GET", "/api/sessions/" + id + "/export", {}, {}, {{"format", format}});
+    const ApiResponse e = call(api, "GET", "/api/sessions/" + id + "/export", {}, code, {{"format", format}});
     ASSERT_EQ(e.status, 200) << e.body;
     EXPECT_FALSE(e.download_name.empty());
     const MeasurementSetFile set = parse_measurement_set(e.body);
@@ -173,14 +175,15 @@ TEST(CaptureApi, AScriptedPersonMeasuredThroughTheApi) {
     EXPECT_DOUBLE_EQ(set.edge.at("weight"), 70.5);
   }
   // The desktop tool's own importer accepts the export.
-  const ApiResponse exported = call(api, "GET", "/api/sessions/" + id + "/export");
+  const ApiResponse exported = call(api, "GET", "/api/sessions/" + id + "/export", {}, {}, {}, "127.0.0.1");  // the desktop
   const ApiResponse imported = call(api, "POST", "/api/measurement-set/import", exported.body);
   EXPECT_EQ(imported.status, 200) << imported.body;
 
-  const json list = body_of(call(api, "GET", "/api/sessions"));
+  const json list = body_of(call(api, "GET", "/api/sessions", {}, {}, {}, "127.0.0.1"));
   ASSERT_EQ(list["sessions"].size(), 1u);
   EXPECT_FALSE(list["sessions"][0].contains("points"));
   EXPECT_EQ(list["sessions"][0]["id"], id);
+  EXPECT_EQ(list["sessions"][0]["measurement_set"]["weight"], 70.5);
 }
 
 TEST(CaptureApi, UndoAndRedo) {
@@ -214,17 +217,104 @@ TEST(CaptureApi, WritesNeedThePairingCode) {
   expect_error(call(api, "POST", "/api/sessions/" + id + "/entries", R"({"weight_kg": 60})", wrong), 403, "pairing_code");
   expect_error(call(api, "DELETE", "/api/sessions/" + id), 403, "pairing_code");
   EXPECT_EQ(call(api, "POST", "/api/sessions/" + id + "/samples", batch, code).status, 200);
-  // Reading needs no code.
-  EXPECT_EQ(call(api, "GET", "/api/sessions/" + id).status, 200);
-  // Guessing is slowed down: after 10 wrong codes in a minute even the right one waits.
-  for (int i = 0; i < 8; ++i) call(api, "POST", "/api/sessions/" + id + "/undo", "", wrong);
-  expect_error(call(api, "POST", "/api/sessions/" + id + "/undo", "", code), 429, "pairing_code");
+  // The same wrong code again is refused but is no new guess: it does not count.
+  for (int i = 0; i < 6; ++i) expect_error(call(api, "POST", "/api/sessions/" + id + "/undo", "", wrong), 403, "pairing_code");
+  // Guessing is slowed down per device: after 5 wrong codes in a minute even the right one waits.
+  for (int i = 0; i < 4; ++i) {
+    std::string guess = wrong;
+    guess[0] = static_cast<char>('0' + (code[0] - '0' + 1 + i) % 10);
+    expect_error(call(api, "POST", "/api/sessions/" + id + "/undo", "", guess), 403, "pairing_code");
+  }
+  const ApiResponse waiting = call(api, "POST", "/api/sessions/" + id + "/undo", "", code);
+  expect_error(waiting, 429, "pairing_code");
+  EXPECT_EQ(body_of(waiting)["error"]["kind"], "too_many_attempts");
   // ... from that device only: the headset, elsewhere on the network, goes on with the right code.
   EXPECT_EQ(call(api, "POST", "/api/sessions/" + id + "/undo", "", code, {}, "192.168.1.30").status, 200);
   // Another session is not affected.
   const auto [id2, code2] = create(api);
   EXPECT_EQ(call(api, "DELETE", "/api/sessions/" + id2, "", code2).status, 204);
-  expect_error(call(api, "GET", "/api/sessions/" + id2), 404, "id");
+  expect_error(call(api, "GET", "/api/sessions/" + id2, {}, {}, {}, "127.0.0.1"), 404, "id");
+}
+
+// The audit's attack: a new client address for every guess. The per-address throttle never
+// triggers, but the session's own budget does: 10 wrong codes in all, then 423 for every code,
+// the right one too, until the experimenter's desktop issues a new code.
+TEST(CaptureApi, RotatingAddressesCannotGuessMoreThanTheSessionsBudget) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = create(api);
+  int tried = 0, locked = 0;
+  for (int i = 0; i < 40; ++i) {
+    std::string guess = code;
+    guess[0] = static_cast<char>('0' + (code[0] - '0' + 1 + i % 9) % 10);  // never the code
+    guess[1] = static_cast<char>('0' + i / 9);
+    const std::string address = "10.0." + std::to_string(i / 200) + "." + std::to_string(i % 200 + 1);
+    const ApiResponse r = call(api, "POST", "/api/sessions/" + id + "/undo", "", guess, {}, address);
+    EXPECT_NE(r.status, 429) << "each address guesses once: the per-address throttle never sees it";
+    if (r.status == 403) ++tried;
+    if (r.status == 423) {
+      ++locked;
+      EXPECT_EQ(body_of(r)["error"]["kind"], "pairing_locked") << r.body;
+      EXPECT_EQ(body_of(r)["error"]["field"], "pairing_code") << r.body;
+      EXPECT_NE(body_of(r)["error"]["message"].get<std::string>().find("new code"), std::string::npos) << r.body;
+    }
+  }
+  EXPECT_EQ(tried, 9);    // the 10th wrong code already answers 423
+  EXPECT_EQ(locked, 31);
+  // The right code, from a fresh address or the headset's: refused, for writes and reads alike.
+  expect_error(call(api, "POST", "/api/sessions/" + id + "/samples", json{{"samples", json::array()}}.dump(), code, {}, "10.9.9.9"),
+               423, "pairing_code");
+  expect_error(call(api, "GET", "/api/sessions/" + id, {}, code, {}, "192.168.1.30"), 423, "pairing_code");
+  // A new server (restart) keeps the lock.
+  Api restarted(options_for(dir / "s.db"));
+  expect_error(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", code, {}, "192.168.1.30"), 423, "pairing_code");
+  // Only the desktop may issue a new code; it unlocks the session.
+  expect_error(call(restarted, "POST", "/api/sessions/" + id + "/pairing", "", code, {}, "192.168.1.30"), 403, "pairing_code");
+  const ApiResponse reissued = call(restarted, "POST", "/api/sessions/" + id + "/pairing", "", {}, {}, "127.0.0.1");
+  ASSERT_EQ(reissued.status, 200) << reissued.body;
+  const std::string fresh = body_of(reissued)["pairing_code"];
+  ASSERT_EQ(fresh.size(), 6u);
+  EXPECT_EQ(body_of(reissued)["session"]["id"], id);
+  EXPECT_EQ(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", fresh, {}, "192.168.1.30").status, 200);
+  if (fresh != code) expect_error(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", code, {}, "192.168.1.31"), 403, "pairing_code");
+  expect_error(call(restarted, "POST", "/api/sessions/s-nope/pairing", "", {}, {}, "127.0.0.1"), 404, "id");
+}
+
+// Who may read what: the desktop (loopback, or a browser on the server's own LAN address) lists
+// every session with its values and reads any session; another device gets stubs in the list and
+// must show the session's code to read it or export it.
+TEST(CaptureApi, OnlyTheDesktopListsMeasurementsOthersNeedTheCode) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = create(api, {{"sex", "female"}, {"weight_kg", 61.5}});
+  const json stubs = body_of(call(api, "GET", "/api/sessions"));  // from 192.168.1.20
+  ASSERT_EQ(stubs["sessions"].size(), 1u);
+  const json stub = stubs["sessions"][0];
+  EXPECT_EQ(stub["id"], id);
+  EXPECT_EQ(stub["state"], "floor");
+  for (const char* hidden : {"values", "measurement_set", "weight_kg", "sex", "points", "step"})
+    EXPECT_FALSE(stub.contains(hidden)) << hidden << " in " << stub.dump();
+  for (const char* desktop : {"127.0.0.1", "::1", "::ffff:127.0.0.1"}) {
+    const json full = body_of(call(api, "GET", "/api/sessions", {}, {}, {}, desktop));
+    EXPECT_EQ(full["sessions"][0]["measurement_set"]["weight"], 61.5) << desktop;
+    EXPECT_EQ(call(api, "GET", "/api/sessions/" + id, {}, {}, {}, desktop).status, 200) << desktop;
+  }
+  // The browser on the server's machine using its LAN address (e.g. https://192.168.1.23:8080).
+  ApiRequest same_machine;
+  same_machine.method = "GET";
+  same_machine.path = "/api/sessions";
+  same_machine.remote_address = same_machine.local_address = "192.168.1.23";
+  EXPECT_EQ(body_of(api.handle(same_machine))["sessions"][0]["sex"], "female");
+  for (const std::string& path : std::vector<std::string>{"/api/sessions/" + id, "/api/sessions/" + id + "/export"}) {
+    expect_error(call(api, "GET", path), 403, "pairing_code");
+    std::string wrong = code;
+    wrong[2] = wrong[2] == '0' ? '1' : '0';
+    expect_error(call(api, "GET", path, {}, wrong), 403, "pairing_code");
+    EXPECT_EQ(call(api, "GET", path, {}, code).status, 200) << path;
+  }
+  const ApiResponse exported = call(api, "GET", "/api/sessions/" + id + "/export", {}, code, {{"format", "csv"}});
+  EXPECT_NE(exported.body.find("61.5"), std::string::npos) << exported.body;
+  expect_error(call(api, "GET", "/api/sessions/s-nope", {}, code), 404, "id");
 }
 
 TEST(CaptureApi, BadInputIsA4xxNamingTheField) {
@@ -338,7 +428,7 @@ TEST(CaptureApi, ANewServerResumesASessionMidway) {
   // `first` is abandoned here, not destroyed: the state must already be on disk.
 
   Api second(options_for(dir / "s.db"));
-  json s = body_of(call(second, "GET", "/api/sessions/" + id))["session"];
+  json s = body_of(call(second, "GET", "/api/sessions/" + id, {}, code))["session"];
   EXPECT_EQ(s["step"]["name"], "stature");
   EXPECT_EQ(s["step"]["repetition"], 2);
   EXPECT_EQ(s["points"].size(), 6u);

@@ -87,7 +87,7 @@ TEST(InvalidUtf8, EveryPostEndpointOfBothApisAnswers400AndNeverThrows) {
     }
   }
   // The session is still there and readable.
-  const ApiResponse after = api.handle(ApiRequest{"GET", s, {}, {}, {}, {}, "127.0.0.1"});
+  const ApiResponse after = api.handle(ApiRequest{"GET", s, {}, {}, {}, {}, "127.0.0.1", "127.0.0.1"});
   ASSERT_EQ(after.status, 200) << after.body;
 }
 

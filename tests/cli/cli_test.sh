@@ -301,6 +301,18 @@ says "180.00 cm" "the file's stature (mm) is used"
 expect 4 "avatar from a missing measurement set" "$CALIPER" avatar --measurements "$TMP/none.csv" -o "$TMP/x.obj"
 expect 3 "export an unknown session" "$CALIPER" sessions --data "$CAP" export s-000000000000
 says "no capture session" "the message says so"
+expect 0 "sessions pair" "$CALIPER" sessions --data "$CAP" pair "$SID"
+says "new pairing code for $SID: " "a new code is printed"
+NEWCODE=$(sed -n 's/.*: \([0-9]\{6\}\)$/\1/p' "$TMP/out")
+start_serve
+expect 0 "the new code writes" node "$TMP/cap.mjs" "$PORT" entries "$SID" "$NEWCODE"
+says "200" "accepted"
+if [ "$NEWCODE" != "$CODE" ]; then
+  expect 0 "the old code no longer does" node "$TMP/cap.mjs" "$PORT" entries "$SID" "$CODE"
+  says "403" "refused"
+fi
+kill "$SERVE_PID"; wait "$SERVE_PID" 2>/dev/null
+expect 3 "pair an unknown session" "$CALIPER" sessions --data "$CAP" pair s-000000000000
 expect 0 "sessions delete" "$CALIPER" sessions --data "$CAP" delete "$SID"
 expect 0 "deleted" bash -c "! '$CALIPER' sessions --data '$CAP' list | grep -q '$SID'"
 mkdir -p "$TMP/foreign"; printf 'not a database, somebody else'"'"'s file\n' >"$TMP/foreign/sessions.db"

@@ -462,6 +462,19 @@ try {
     `${await desk.inputValue('#in-stature')} vs ${set.stature}`);
   check(Math.abs(parseFloat(await desk.inputValue('#in-span')) - set.span) < 0.051, 'with its arm span', await desk.inputValue('#in-span'));
 
+  // The experimenter issues a new code on the page (issue 15): the old one stops working, the new
+  // one writes (an empty batch of samples changes nothing).
+  await page.evaluate(() => document.getElementById('new-code').click());  // the XR overlay covers the page
+  await page.waitForFunction((old) => document.querySelector('#pairing-code')?.innerText.trim() !== old, code, { timeout: 10000 }).catch(() => {});
+  const newCode = (await page.locator('#pairing-code').innerText()).trim();
+  check(/^\d{6}$/.test(newCode) && newCode !== code, 'New code shows another six-digit code', `${code} → ${newCode}`);
+  const emptyBatch = (c) => json(base, `/api/sessions/${sessionId}/samples`, { method: 'POST',
+    headers: { 'X-Caliper-Pairing': c, 'Content-Type': 'application/json' }, body: JSON.stringify({ samples: [] }) });
+  const oldRefused = await emptyBatch(code);
+  check(oldRefused.status === 403, 'the old code is refused after New code', `${oldRefused.status}`);
+  const newAccepted = await emptyBatch(newCode);
+  check(newAccepted.status === 200, 'the new code writes', `${newAccepted.status} ${newAccepted.text.slice(0, 200)}`);
+
   check(!served.some((u) => /iwer/i.test(u)), 'the page never loads iwer from the server');
   check(outside.length === 0, 'nothing is fetched from outside the server', outside.join(', '));
   check(pageErrors.length === 0, 'no errors in the pages', pageErrors.join('\n'));

@@ -1,7 +1,7 @@
 // Capture storage and sessions: SQLite durability (a process killed mid-session resumes with
 // the same values), undo/redo across processes, pairing codes never stored in clear, corrupt and
-// foreign files refused and left untouched, the default data path, measurement-set files, and
-// the SHA-256 used for pairing codes (FIPS 180-2 test vectors).
+// foreign files refused and left untouched, the default data path and measurement-set files.
+// How pairing codes are verified and locked: test_capture_pairing.cpp.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
@@ -11,7 +11,6 @@
 
 #include <cstdlib>
 
-#include "../../src/capture/sha256.h"
 #include "caliper/capture/measurement_set.h"
 #include "caliper/capture/service.h"
 #include "caliper/errors.h"
@@ -35,14 +34,6 @@ CaptureServiceOptions options_for(const std::string& db) {
 
 void feed_script(CaptureService& svc, const std::string& id, SampleScript& s) {
   for (const auto& b : s.batches()) ASSERT_TRUE(svc.feed(id, b, {"meta-quest-touch-plus"}));
-}
-
-TEST(CaptureSha256, MatchesTheStandardTestVectors) {
-  EXPECT_EQ(detail::sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-  EXPECT_EQ(detail::sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  EXPECT_EQ(detail::sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
-            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-  EXPECT_EQ(detail::sha256_hex(std::string(1000000, 'a')), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
 // A child process measures half a session and is killed (SIGKILL: no destructor, no close);
@@ -83,7 +74,7 @@ TEST(CaptureStore, ASessionKilledMidwayResumesWithTheSameValues) {
   ASSERT_TRUE(s0->protocol.current_step());
   EXPECT_EQ(s0->protocol.current_step()->spec.name, "span");
   EXPECT_EQ(s0->protocol.current_step()->repetition, 2);
-  EXPECT_TRUE(resumed.check_pairing(id, code));
+  EXPECT_TRUE(resumed.check_pairing(id, code).paired());
   SampleScript rest(kTouchPlus, 22);
   rest.hold(0, person.left_fingertip, 1.2, &person.right_fingertip);
   for (int rep = 0; rep < 2; ++rep) rest.hold(1, person.crotch, 1.2);
@@ -159,20 +150,21 @@ TEST(CaptureStore, PairingCodesAreSixDigitsCheckedAndNeverStoredInClear) {
     code = c.pairing_code;
     ASSERT_EQ(code.size(), 6u);
     EXPECT_EQ(code.find_first_not_of("0123456789"), std::string::npos);
-    EXPECT_TRUE(svc.check_pairing(id, code));
+    EXPECT_TRUE(svc.check_pairing(id, code).paired());
     std::string wrong = code;
     wrong[0] = wrong[0] == '9' ? '0' : static_cast<char>(wrong[0] + 1);
-    EXPECT_FALSE(svc.check_pairing(id, wrong));
-    EXPECT_FALSE(svc.check_pairing(id, ""));
-    EXPECT_FALSE(svc.check_pairing("s-nope", code));
+    EXPECT_EQ(svc.check_pairing(id, wrong).status, PairingStatus::WrongCode);
+    EXPECT_EQ(svc.check_pairing(id, "").status, PairingStatus::WrongCode);
+    EXPECT_EQ(svc.check_pairing("s-nope", code).status, PairingStatus::NoSession);
     auto other = svc.create({});
     EXPECT_NE(other.session.id, id);
   }
   SessionStore store(db);
-  const auto h = store.pairing_hash(id);
+  const auto h = store.pairing(id);
   ASSERT_TRUE(h);
-  EXPECT_EQ(h->find(code), std::string::npos);
-  EXPECT_EQ(h->size(), 16u + 1u + 64u);  // salt $ sha-256 hex
+  EXPECT_EQ(h->verifier.find(code), std::string::npos);
+  EXPECT_EQ(h->verifier.rfind("pbkdf2-sha256$", 0), 0u);
+  EXPECT_EQ(h->failures, 2);  // the two wrong codes above
 }
 
 TEST(CaptureStore, CorruptAndForeignFilesAreRefusedAndLeftUntouched) {

@@ -19,8 +19,8 @@ class ApiError extends Error {
   }
 }
 
-async function api(path, { method = 'GET', body, contentType = 'application/json', raw = false } = {}) {
-  const init = { method, headers: {} };
+async function api(path, { method = 'GET', body, contentType = 'application/json', raw = false, headers = {} } = {}) {
+  const init = { method, headers: { ...headers } };
   if (body !== undefined) {
     init.body = typeof body === 'string' ? body : JSON.stringify(body);
     init.headers['Content-Type'] = contentType;
@@ -709,11 +709,16 @@ async function start() {
 }
 
 // `/?session=<id>`: the capture page's "Open in the desktop tool" link. The session's values go
-// through the same import as a file would (validated by the server), then load like one.
+// through the same import as a file would (validated by the server), then load like one. On the
+// server's machine no code is needed; elsewhere (a headset) the capture page left the session's
+// pairing code in this tab's sessionStorage, and the server wants it (docs/api.md "Pairing").
 async function openSessionFromUrl() {
   const id = new URLSearchParams(location.search).get('session');
   if (!id) return;
-  const res = await api(`/api/sessions/${encodeURIComponent(id)}/export?format=json`, { raw: true });
+  let code = null;
+  try { code = sessionStorage.getItem(`caliper-pairing-${id}`); } catch { /* private mode */ }
+  const res = await api(`/api/sessions/${encodeURIComponent(id)}/export?format=json`,
+    { raw: true, headers: code ? { 'X-Caliper-Pairing': code } : {} });
   const set = await api('/api/measurement-set/import', { method: 'POST', body: await res.text(), contentType: 'application/json' });
   applySet(set);
 }

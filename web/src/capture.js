@@ -25,7 +25,10 @@ async function api(path, { method = 'GET', body, write = false } = {}) {
     init.body = JSON.stringify(body);
     init.headers['Content-Type'] = 'application/json';
   }
+  // Writes always need the code; reads of a session need it too from any device but the
+  // server's own machine (docs/api.md "Pairing"), so it goes with every request once known.
   if (write) init.headers['X-Caliper-Pairing'] = state.code ?? '';
+  else if (state.code) init.headers['X-Caliper-Pairing'] = state.code;
   let res;
   try {
     res = await fetch(path, init);
@@ -81,7 +84,8 @@ function setStatus(text, error = false) {
 
 function showError(e) {
   const box = $('error');
-  box.textContent = e.status === 403 ? `${e.message} (check the pairing code)` : e.message;
+  // 423: the session is locked after too many wrong codes; the message says to ask for a new one.
+  box.textContent = e.status === 403 && e.field === 'pairing_code' ? `${e.message} (check the pairing code)` : e.message;
   box.hidden = false;
   setMessage(e.message, 'bad');
 }
@@ -756,18 +760,55 @@ async function createSession() {
   } catch (e) { showError(e); }
 }
 
+// The experimenter's desktop issues a new code (a session locked by wrong codes, or a code seen by
+// someone it should not have been): the old code stops working, paired devices must join again.
+async function newCode() {
+  const s = state.session;
+  if (!s) return;
+  clearError();
+  try {
+    const res = await api(`/api/sessions/${encodeURIComponent(s.id)}/pairing`, { method: 'POST', body: {} });
+    rememberSession(res.session.id, res.pairing_code);
+    applySession(res.session);
+    $('pairing-hint').textContent = 'new code: type it on the headset (Join a session); the old one no longer works';
+    setStatus(`new pairing code for ${s.id}`);
+  } catch (e) { showError(e); }
+}
+
+// Export links: a plain link carries no header, and a headset needs the code to read the session.
+async function download(e) {
+  e.preventDefault();
+  const a = e.currentTarget;
+  try {
+    const res = await fetch(a.href, { headers: state.code ? { 'X-Caliper-Pairing': state.code } : {} });
+    if (!res.ok) {
+      let payload = null;
+      try { payload = await res.json(); } catch { /* not JSON */ }
+      throw new ApiError(res.status, payload?.error ?? { message: `HTTP ${res.status}` });
+    }
+    const url = URL.createObjectURL(await res.blob());
+    const tmp = document.createElement('a');
+    tmp.href = url;
+    tmp.download = (res.headers.get('Content-Disposition') ?? '').match(/filename="([^"]+)"/)?.[1] ?? 'caliper-measurements';
+    document.body.appendChild(tmp);
+    tmp.click();
+    tmp.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 10000);
+  } catch (err) { showError(err); }
+}
+
 async function joinSession(id, code) {
   clearError();
   if (!id) { showError(new ApiError(400, { message: 'pick a session to join' })); return false; }
   if (!/^\d{6}$/.test(code)) { showError(new ApiError(400, { message: 'the pairing code has six digits' })); return false; }
   try {
+    state.code = code;  // reading the session from a headset already needs it
     const { session } = await api(`/api/sessions/${encodeURIComponent(id)}`);
-    // Check the code with a harmless write: an empty batch of samples.
-    state.code = code;
+    // Check the code with a harmless write too: an empty batch of samples.
     try {
       await api(`/api/sessions/${encodeURIComponent(id)}/samples`, { method: 'POST', body: { profile: state.defaultProfile, samples: [] }, write: true });
     } catch (e) {
-      if (e.status === 403) throw e;        // any other refusal is about the empty batch, not the code
+      if (e.status === 403 || e.status === 423 || e.status === 429) throw e;  // others are about the empty batch, not the code
     }
     rememberSession(id, code);
     applySession(session);
@@ -913,6 +954,9 @@ async function start() {
   $('enter-vr').addEventListener('click', enterVR);
   $('undo').addEventListener('click', undo);
   $('redo').addEventListener('click', redo);
+  $('new-code').addEventListener('click', newCode);
+  $('export-json').addEventListener('click', download);
+  $('export-csv').addEventListener('click', download);
   $('save-entries').addEventListener('click', () => {
     const body = {};
     if ($('sex').value) body.sex = $('sex').value;

@@ -1,7 +1,10 @@
 // Capture sessions as a service: the protocol engine (protocol.h) per session, persisted in a
-// SessionStore (store.h) as it changes, with pairing codes (6 digits, stored salted and hashed).
-// Thread-safe; what the server's /api/sessions endpoints and `caliper sessions` use.
+// SessionStore (store.h) as it changes, with pairing codes (6 digits; stored as a PBKDF2-HMAC-
+// SHA256 verifier; each session accepts a limited number of wrong codes in its lifetime, then
+// refuses every code until a new one is issued). Thread-safe; what the server's /api/sessions
+// endpoints and `caliper sessions` use.
 #pragma once
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -34,6 +37,33 @@ struct CaptureServiceOptions {
   std::string database;  // empty: SessionStore::default_path()
   ProfileRegistry profiles = ProfileRegistry::builtin();
   HoldOptions hold;
+  // Wrong pairing codes a session accepts in its lifetime, from all clients together, before it
+  // locks (docs/capture.md "Pairing": 10 guesses find a random code with probability 10^-5).
+  int max_pairing_failures = 10;
+  // Sessions kept live in memory (least recently used beyond it are dropped and rebuilt from the
+  // store on their next use; a hold in progress in a dropped session is lost, never a point).
+  std::size_t max_cached_sessions = 256;
+  // Codes recently verified (session → code), so a paired device's requests skip PBKDF2.
+  std::size_t max_verified_codes = 256;
+};
+
+enum class PairingStatus {
+  Paired,     // the session's code
+  WrongCode,  // counted against the session's budget
+  Locked,     // the budget is spent: every code (the right one too) is refused until reissue_pairing
+  Outdated,   // the stored verifier is of a format no longer accepted (Caliper before issue 15): reissue
+  NoSession,
+};
+
+struct PairingCheck {
+  PairingStatus status = PairingStatus::NoSession;
+  int failures = 0;      // wrong codes since the code was issued (after this check)
+  int max_failures = 0;  // the budget (CaptureServiceOptions::max_pairing_failures)
+  // WrongCode: this code was counted now. A wrong code the session has already counted (a paired
+  // device still sending the code replaced by reissue_pairing) is refused without counting
+  // again: it tells a guesser nothing new.
+  bool counted = false;
+  bool paired() const { return status == PairingStatus::Paired; }
 };
 
 class CaptureService {
@@ -52,8 +82,17 @@ class CaptureService {
 
   std::vector<Session> list();                      // newest first
   std::optional<Session> find(const std::string& id);
-  // True when `code` is the session's pairing code (constant-time compare of the hashes).
-  bool check_pairing(const std::string& id, const std::string& code);
+  // Whether `code` is the session's pairing code. The verifier is PBKDF2 (about 0.1 s, one at a
+  // time across sessions, so the budget is exact under concurrent guesses); a code verified
+  // before is recognised from memory. A wrong code is counted in the store (survives restarts);
+  // only distinct wrong codes count (the ones counted are remembered in memory, per code issued).
+  PairingCheck check_pairing(const std::string& id, const std::string& code);
+  // A new code for the session (the experimenter's desktop or `caliper sessions pair`): the old
+  // one stops working and the failure count starts again. nullopt when there is no such session.
+  std::optional<std::string> reissue_pairing(const std::string& id);
+
+  // Sessions live in memory now (at most max_cached_sessions).
+  std::size_t cached_session_count();
 
   struct FeedResult {
     Session session;
@@ -76,10 +115,15 @@ class CaptureService {
  private:
   std::optional<Session> step(const std::string& id, bool* changed, bool forward);  // undo / redo
   Session* live(const std::string& id);  // cached or loaded from the store; nullptr if absent
+  std::unique_ptr<Session> load(const std::string& id) const;  // rebuilt from the store, not cached
+  void forget(const std::string& id);  // drops the live session and its verified code
   CaptureServiceOptions options_;
   std::unique_ptr<SessionStore> store_;
-  std::mutex mutex_;
-  std::map<std::string, std::unique_ptr<Session>> sessions_;  // live: holds in progress are here only
+  std::mutex mutex_;         // the caches and the store
+  std::mutex verify_mutex_;  // one PBKDF2 verification (or re-issue) at a time
+  // Live sessions (holds in progress are here only) and verified codes, both LRU-bounded.
+  struct Caches;
+  std::unique_ptr<Caches> caches_;
 };
 
 }  // namespace caliper::capture

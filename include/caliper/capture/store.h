@@ -27,6 +27,13 @@ struct StoredSession {
   std::vector<CapturePoint> redo;        // undone, the next to redo last
 };
 
+// A session's pairing state: the code's verifier (PBKDF2, see service.h) and the wrong codes
+// tried since that code was issued.
+struct PairingRecord {
+  std::string verifier;
+  int failures = 0;
+};
+
 // What is written with every change, so listings and exports need no replay.
 struct SessionSummary {
   std::string state;
@@ -37,7 +44,8 @@ class SessionStore {
  public:
   // Opens `path`, creating it (and its folder) when absent. Throws Error(Format) naming the path
   // when the file is not SQLite, is corrupt, or is another application's database (it is never
-  // modified then), and Error(Io) when it cannot be opened or created.
+  // modified then), and Error(Io) when it cannot be opened or created. A schema-1 file (before
+  // issue 15) is upgraded in place: the wrong-code counter is added, at 0.
   explicit SessionStore(const std::string& path);
   ~SessionStore();
   SessionStore(const SessionStore&) = delete;
@@ -48,10 +56,14 @@ class SessionStore {
   static std::string path_in(const std::string& data_dir);  // data_dir/sessions.db
   const std::string& path() const;
 
-  void create(const StoredSession& session, const std::string& pairing_hash);
+  void create(const StoredSession& session, const std::string& pairing_verifier);
   std::vector<std::string> ids() const;  // newest first
   std::optional<StoredSession> load(const std::string& id) const;
-  std::optional<std::string> pairing_hash(const std::string& id) const;
+  std::optional<PairingRecord> pairing(const std::string& id) const;
+  // One more wrong code for the session (one transaction); returns the new count.
+  int add_pairing_failure(const std::string& id);
+  // A new code's verifier; the failure count starts again at 0.
+  void set_pairing(const std::string& id, const std::string& verifier);
   bool contains(const std::string& id) const;
 
   // Each is one transaction. Throws Error(Io) when the write fails.
