@@ -690,7 +690,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     s1.a = K[kHoleTop].a - 0.5 * (K[kHoleTop].a - r.a);
     s1.df = K[kHoleTop].df * 0.8; s1.db = K[kHoleTop].db * 0.85;
     s2.y = y_acr + 0.6 * dy;
-    s2.a = r.a * 1.25;
+    s2.a = std::max(r.a * 1.25, K[kHoleTop].a - 0.78 * (K[kHoleTop].a - r.a));  // the trapezius' slope
     s2.df = r.df * 1.15; s2.db = r.db * 1.25;
     s2.cz = 0.5 * (K[kHoleTop].cz + r.cz);
     s2.p = 2.6;
