@@ -301,11 +301,12 @@ Vec3 arm_point(const ArmRing& r, double psi) {  // left arm
   const double e = 2.0 / r.p;
   return {r.x, r.yc - r.ry * spow(std::cos(psi), e), r.zc - r.rz * spow(std::sin(psi), e)};
 }
-// The angle of column q on ring r (see ArmRing::flat). Quarters run between the bottom, back, top
+// The angles of ring r's columns (see ArmRing::flat). Quarters run between the bottom, back, top
 // and front columns, which keep their angles, and are mirror images of the first.
-double arm_column_angle(const ArmRing& r, int q) {
-  const double uniform = arm_angle(q);
-  if (r.flat <= 0) return uniform;
+std::array<double, kArmN> arm_column_angles(const ArmRing& r) {
+  std::array<double, kArmN> angles{};
+  for (int q = 0; q < kArmN; ++q) angles[static_cast<size_t>(q)] = arm_angle(q);
+  if (r.flat <= 0) return angles;
   constexpr int kQuarter = kArmN / 4, kSamples = 256;
   std::array<double, kSamples + 1> length{};  // arc length from ψ = 0 (bottom) to ψ = 90° (back)
   Eigen::Vector2d prev(-r.ry, 0);
@@ -323,19 +324,22 @@ double arm_column_angle(const ArmRing& r, int q) {
                      std::max(1e-15, length[static_cast<size_t>(i)] - length[static_cast<size_t>(i - 1)]);
     return 0.5 * kPi * (static_cast<double>(i - 1) + t) / kSamples;
   };
-  const int qb = ((q - kArmBottom) % kArmN + kArmN) % kArmN;  // columns from the bottom
-  const int quarter = qb / kQuarter, k = qb % kQuarter;
-  double psi = 0;
-  switch (quarter) {
-    case 0: psi = equal_arc(k); break;
-    case 1: psi = kPi - equal_arc(kQuarter - k); break;
-    case 2: psi = kPi + equal_arc(k); break;
-    default: psi = 2 * kPi - equal_arc(kQuarter - k); break;
+  for (int q = 0; q < kArmN; ++q) {
+    const int qb = ((q - kArmBottom) % kArmN + kArmN) % kArmN;  // columns from the bottom
+    const int quarter = qb / kQuarter, k = qb % kQuarter;
+    double psi = 0;
+    switch (quarter) {
+      case 0: psi = equal_arc(k); break;
+      case 1: psi = kPi - equal_arc(kQuarter - k); break;
+      case 2: psi = kPi + equal_arc(k); break;
+      default: psi = 2 * kPi - equal_arc(kQuarter - k); break;
+    }
+    double base = angles[static_cast<size_t>(q)];  // the same angle, unwrapped to [0, 2π) from the bottom
+    while (base < 0) base += 2 * kPi;
+    if (qb == 0) base = 0;
+    angles[static_cast<size_t>(q)] = (1 - r.flat) * base + r.flat * psi;
   }
-  double base = uniform;  // the same angle, unwrapped to [0, 2π) from the bottom
-  while (base < 0) base += 2 * kPi;
-  if (qb == 0) base = 0;
-  return (1 - r.flat) * base + r.flat * psi;
+  return angles;
 }
 void fit_arm_circumference(ArmRing& r, double c) {
   std::vector<Eigen::Vector2d> pts(kArmN);
@@ -1326,13 +1330,15 @@ void build(const BodyPlan& P, Builder& B) {
     for (int k = kax; k < kax + kHoleRows; ++k) A[0][static_cast<size_t>(q++)] = B.torso[static_cast<size_t>(k)][static_cast<size_t>(tj(kHoleJ1))];
     for (int j = kHoleJ1; j > kHoleJ0; --j) A[0][static_cast<size_t>(q++)] = B.torso[static_cast<size_t>(kax + kHoleRows)][static_cast<size_t>(tj(j))];
     for (int k = kax + kHoleRows; k > kax; --k) A[0][static_cast<size_t>(q++)] = B.torso[static_cast<size_t>(k)][static_cast<size_t>(tj(kHoleJ0))];
-    for (int r = 1; r < na; ++r)
+    for (int r = 1; r < na; ++r) {
+      const ArmRing& ring = P.arm[static_cast<size_t>(r)];
+      const std::array<double, kArmN> psi = arm_column_angles(ring);
       for (int qq = 0; qq < kArmN; ++qq) {
         if (in_thumb_hole(r, qq, h0)) continue;
-        const ArmRing& ring = P.arm[static_cast<size_t>(r)];
-        const Vec3 p = arm_point(ring, arm_column_angle(ring, qq));
+        const Vec3 p = arm_point(ring, psi[static_cast<size_t>(qq)]);
         A[static_cast<size_t>(r)][static_cast<size_t>(qq)] = B.add(sd == 0 ? p : mirror(p), Part::Arm, sd == 0 ? 1 : -1);
       }
+    }
     // Thumb: grown from the loop around its hole in the palm.
     std::vector<int> loop;
     for (int qq = kThumbQ0; qq < kThumbQ1; ++qq) loop.push_back(A[static_cast<size_t>(h0)][static_cast<size_t>(qq)]);
