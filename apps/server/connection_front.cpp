@@ -1,0 +1,520 @@
+// The connection front (connection_front.h): a waiting room that polls idle and incoming
+// connections on one thread, and workers that get a connection only with a whole request in hand.
+// Sockets are non-blocking throughout, so every wait is a poll() bounded by a deadline.
+#include "connection_front.h"
+
+#include <fcntl.h>
+#include <httplib.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <openssl/err.h>
+#include <openssl/ssl.h>
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "api.h"
+
+namespace caliper::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Request headers larger than this get 431 (httplib itself allows 8 KiB per line).
+constexpr std::size_t kMaxHeaderBytes = 64 * 1024;
+// Bodies up to this size are received in the waiting room; a larger body's rest is read by its
+// worker (within the request deadline). Bounds the waiting room's memory: 128 KiB a connection.
+constexpr std::size_t kMaxBufferedBody = 64 * 1024;
+// A client over its address's connection cap is told to come back after this (Retry-After).
+constexpr int kRetryAfterSeconds = 2;
+
+Clock::time_point after(double seconds) {
+  return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+// Milliseconds until `deadline` for poll(), rounded up; 0 once it has passed.
+int ms_until(Clock::time_point deadline) {
+  const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()).count();
+  return static_cast<int>(std::clamp<long long>(left, 0, INT_MAX));
+}
+
+// Waits until `socket` has one of `events` (POLLIN or POLLOUT) or fails; false once `deadline` passes.
+bool wait_for(int socket, short events, Clock::time_point deadline) {
+  for (;;) {
+    pollfd p{socket, events, 0};
+    const int r = ::poll(&p, 1, ms_until(deadline));
+    if (r > 0) return true;  // ready, or an error the next read or write reports
+    if (r == 0 || errno != EINTR) return false;
+  }
+}
+
+void numeric_address(const sockaddr_storage& a, socklen_t length, std::string& ip, int& port) {
+  char host[NI_MAXHOST] = "";
+  char service[NI_MAXSERV] = "";
+  if (::getnameinfo(reinterpret_cast<const sockaddr*>(&a), length, host, sizeof host, service, sizeof service,
+                    NI_NUMERICHOST | NI_NUMERICSERV) == 0) {
+    ip = host;
+    port = std::atoi(service);
+  }
+}
+
+// One client connection. The waiting room or one worker owns it at a time; handing it over
+// (through the front's mutex or the worker pool's queue) orders their accesses.
+struct Connection {
+  enum class Phase { Handshake, Idle, Receiving };
+
+  int socket = -1;
+  SSL* tls = nullptr;  // null for plain HTTP
+  std::string address, local_address;
+  int port = 0, local_port = 0;
+  Phase phase = Phase::Idle;
+  bool refused = false;           // over its address's cap: answered 503 once its request is in
+  bool peer_closed = false;       // the client shut down its side after sending
+  bool tls_wants_write = false;   // the handshake waits for the socket to take data
+  std::string received;           // bytes received and not yet consumed by a request
+  Clock::time_point deadline;          // of the current phase
+  Clock::time_point request_deadline;  // of the request being received or served
+  int requests_served = 0;
+
+  Connection() = default;
+  Connection(const Connection&) = delete;
+  Connection& operator=(const Connection&) = delete;
+  ~Connection() {
+    if (tls) {
+      SSL_shutdown(tls);  // one non-blocking attempt at close_notify
+      SSL_free(tls);
+    }
+    if (socket >= 0) ::close(socket);
+  }
+
+  // The client's request has started: the whole of it must now arrive by the request deadline.
+  void start_request(double request_deadline_s) {
+    phase = Phase::Receiving;
+    request_deadline = after(request_deadline_s);
+    deadline = request_deadline;
+  }
+};
+
+enum class Transfer { Done, WouldBlock, Failed };
+
+// One non-blocking read into `out`; `n` is the byte count when Done (0: the peer closed).
+Transfer read_some(Connection& c, char* out, std::size_t size, std::size_t& n, short& wait_events) {
+  if (c.tls) {
+    const int r = SSL_read(c.tls, out, static_cast<int>(std::min<std::size_t>(size, INT_MAX)));
+    if (r > 0) return n = std::size_t(r), Transfer::Done;
+    const int e = SSL_get_error(c.tls, r);
+    if (e == SSL_ERROR_WANT_READ) return wait_events = POLLIN, Transfer::WouldBlock;
+    if (e == SSL_ERROR_WANT_WRITE) return wait_events = POLLOUT, Transfer::WouldBlock;
+    if (e == SSL_ERROR_ZERO_RETURN) return n = 0, Transfer::Done;
+    return Transfer::Failed;
+  }
+  const ssize_t r = ::recv(c.socket, out, size, MSG_DONTWAIT);
+  if (r >= 0) return n = std::size_t(r), Transfer::Done;
+  if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return wait_events = POLLIN, Transfer::WouldBlock;
+  return Transfer::Failed;
+}
+
+// One non-blocking write from `data`; `n` is the byte count written when Done.
+Transfer write_some(Connection& c, const char* data, std::size_t size, std::size_t& n, short& wait_events) {
+  if (c.tls) {
+    const int r = SSL_write(c.tls, data, static_cast<int>(std::min<std::size_t>(size, INT_MAX)));
+    if (r > 0) return n = std::size_t(r), Transfer::Done;
+    const int e = SSL_get_error(c.tls, r);
+    if (e == SSL_ERROR_WANT_READ) return wait_events = POLLIN, Transfer::WouldBlock;
+    if (e == SSL_ERROR_WANT_WRITE) return wait_events = POLLOUT, Transfer::WouldBlock;
+    return Transfer::Failed;
+  }
+  const ssize_t r = ::send(c.socket, data, size, MSG_DONTWAIT | MSG_NOSIGNAL);
+  if (r >= 0) return n = std::size_t(r), Transfer::Done;
+  if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return wait_events = POLLOUT, Transfer::WouldBlock;
+  return Transfer::Failed;
+}
+
+// What a worker's httplib sees: the bytes the waiting room received, then the socket, with
+// every read bounded by the request's deadline and every write by the response's.
+class ConnectionStream final : public httplib::Stream {
+ public:
+  ConnectionStream(Connection& c, Clock::time_point write_deadline) : c_(c), write_deadline_(write_deadline) {}
+
+  bool is_readable() const override {
+    return consumed_ < c_.received.size() || (c_.tls && SSL_pending(c_.tls) > 0) ||
+           wait_for(c_.socket, POLLIN, c_.request_deadline);
+  }
+  bool is_writable() const override { return wait_for(c_.socket, POLLOUT, write_deadline_); }
+
+  ssize_t read(char* out, size_t size) override {
+    if (consumed_ < c_.received.size()) {
+      const std::size_t n = std::min(size, c_.received.size() - consumed_);
+      std::memcpy(out, c_.received.data() + consumed_, n);
+      consumed_ += n;
+      return ssize_t(n);
+    }
+    return transfer(read_some, out, size, c_.request_deadline);
+  }
+  ssize_t write(const char* data, size_t size) override { return transfer(write_some, data, size, write_deadline_); }
+
+  void get_remote_ip_and_port(std::string& ip, int& port) const override { ip = c_.address, port = c_.port; }
+  void get_local_ip_and_port(std::string& ip, int& port) const override { ip = c_.local_address, port = c_.local_port; }
+  socket_t socket() const override { return c_.socket; }
+
+  // Drops what the request consumed; anything after it (a pipelined request) stays received.
+  void forget_consumed() {
+    c_.received.erase(0, consumed_);
+    consumed_ = 0;
+  }
+
+ private:
+  template <class Op, class Buffer>
+  ssize_t transfer(Op op, Buffer buffer, std::size_t size, Clock::time_point deadline) {
+    for (;;) {
+      std::size_t n = 0;
+      short events = 0;
+      switch (op(c_, buffer, size, n, events)) {
+        case Transfer::Done: return ssize_t(n);
+        case Transfer::Failed: return -1;
+        case Transfer::WouldBlock:
+          if (!wait_for(c_.socket, events, deadline)) return -1;
+      }
+    }
+  }
+
+  Connection& c_;
+  Clock::time_point write_deadline_;
+  std::size_t consumed_ = 0;
+};
+
+// Case-insensitive: does the header block have a field `name` (lower case, with the colon)?
+// Returns its value's start, or npos.
+std::size_t find_header(const std::string& lower_headers, const std::string& name) {
+  const std::size_t at = lower_headers.find("\n" + name);
+  return at == std::string::npos ? at : at + 1 + name.size();
+}
+
+enum class Readiness { Incomplete, Ready, HeadersTooLarge };
+
+// Whether the bytes received hold a whole request for a worker: the headers and either the whole
+// body (Content-Length) or the first kMaxBufferedBody bytes of it. A chunked body, or one the
+// client sends only after `100 Continue`, is left to the worker.
+Readiness request_readiness(const std::string& received) {
+  std::size_t end = received.find("\r\n\r\n"), separator = 4;
+  if (const std::size_t bare = received.find("\n\n"); bare < end) end = bare, separator = 2;
+  if (end == std::string::npos)
+    return received.size() > kMaxHeaderBytes ? Readiness::HeadersTooLarge : Readiness::Incomplete;
+  if (end > kMaxHeaderBytes) return Readiness::HeadersTooLarge;
+  std::string headers = received.substr(0, end);
+  for (char& ch : headers) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (find_header(headers, "transfer-encoding:") != std::string::npos || find_header(headers, "expect:") != std::string::npos)
+    return Readiness::Ready;
+  std::size_t content_length = 0;
+  if (std::size_t at = find_header(headers, "content-length:"); at != std::string::npos) {
+    while (at < headers.size() && (headers[at] == ' ' || headers[at] == '\t')) ++at;
+    // A malformed length is httplib's to refuse (400); an oversized one its 413.
+    if (at == headers.size() || !std::isdigit(static_cast<unsigned char>(headers[at]))) return Readiness::Ready;
+    for (; at < headers.size() && std::isdigit(static_cast<unsigned char>(headers[at])); ++at) {
+      content_length = content_length * 10 + std::size_t(headers[at] - '0');
+      if (content_length > kMaxBufferedBody) return received.size() - end - separator >= kMaxBufferedBody ? Readiness::Ready : Readiness::Incomplete;
+    }
+  }
+  return received.size() - end - separator >= content_length ? Readiness::Ready : Readiness::Incomplete;
+}
+
+std::string reason_phrase(int status) {
+  switch (status) {
+    case 408: return "Request Timeout";
+    case 431: return "Request Header Fields Too Large";
+    case 503: return "Service Unavailable";
+    default: return "Error";
+  }
+}
+
+// The whole HTTP response for a refusal the waiting room answers itself, with the API's JSON error.
+std::string refusal(int status, const std::string& message, const std::string& field, const std::string& kind,
+                    int retry_after_s = 0) {
+  const ApiResponse e = error_response(status, message, field, kind);
+  std::string head = "HTTP/1.1 " + std::to_string(status) + " " + reason_phrase(status) + "\r\nContent-Type: " + e.content_type +
+                     "\r\nContent-Length: " + std::to_string(e.body.size()) +
+                     "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nConnection: close\r\n";
+  if (retry_after_s > 0) head += "Retry-After: " + std::to_string(retry_after_s) + "\r\n";
+  return head + "\r\n" + e.body;
+}
+
+}  // namespace
+
+struct ConnectionFront::Impl {
+  ConnectionLimits limits;
+  SSL_CTX* tls;
+  RequestProcessor process;
+  httplib::ThreadPool workers;
+  int wake_fd = -1;  // an eventfd: admit() and workers wake the waiting room with it
+
+  std::mutex mutex;  // guards the members below up to `stopped`
+  std::vector<std::unique_ptr<Connection>> arrivals;  // new or handed back, for the waiting room to take
+  std::unordered_map<std::string, int> per_address;   // open connections by client address
+  int open = 0;
+  bool stopping = false, stopped = false;
+
+  std::vector<std::unique_ptr<Connection>> waiting;  // the waiting room's own, touched by its thread only
+  std::thread waiting_room;
+
+  Impl(const ConnectionLimits& l, int threads, SSL_CTX* t, RequestProcessor p)
+      : limits(l), tls(t), process(std::move(p)), workers(std::size_t(std::max(1, threads))) {
+    wake_fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    waiting_room = std::thread([this] { run_waiting_room(); });
+  }
+
+  void wake() const {
+    const std::uint64_t one = 1;
+    [[maybe_unused]] const ssize_t n = ::write(wake_fd, &one, sizeof one);
+  }
+
+  // ---- Admission (the accept thread) ----
+
+  void admit(int socket) {
+    auto c = std::make_unique<Connection>();
+    c->socket = socket;
+    sockaddr_storage a{};
+    socklen_t length = sizeof a;
+    if (::getpeername(socket, reinterpret_cast<sockaddr*>(&a), &length) == 0) numeric_address(a, length, c->address, c->port);
+    length = sizeof a;
+    if (::getsockname(socket, reinterpret_cast<sockaddr*>(&a), &length) == 0)
+      numeric_address(a, length, c->local_address, c->local_port);
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      int& from_address = per_address[c->address];
+      // Beyond twice the cap (or the total) not even a refusal is worth a socket.
+      if (stopping || open >= limits.max_total || from_address >= 2 * limits.max_per_address) {
+        if (from_address == 0) per_address.erase(c->address);
+        return;  // ~Connection closes the socket
+      }
+      ++from_address;
+      ++open;
+      c->refused = from_address > limits.max_per_address;
+    }
+    ::fcntl(socket, F_SETFL, ::fcntl(socket, F_GETFL) | O_NONBLOCK);
+    const int yes = 1;  // responses are written as headers then body: do not hold the body back
+    ::setsockopt(socket, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
+    if (tls) {
+      c->tls = SSL_new(tls);
+      if (!c->tls || SSL_set_fd(c->tls, socket) != 1) return release(std::move(c));
+      SSL_set_mode(c->tls, SSL_MODE_ENABLE_PARTIAL_WRITE | SSL_MODE_ACCEPT_MOVING_WRITE_BUFFER);
+      SSL_set_accept_state(c->tls);
+      c->phase = Connection::Phase::Handshake;
+      c->deadline = after(limits.tls_handshake_s);
+    } else {
+      c->deadline = after(limits.idle_timeout_s);
+    }
+    to_waiting_room(std::move(c));
+  }
+
+  void to_waiting_room(std::unique_ptr<Connection> c) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (stopping) return release_locked(std::move(c));
+      arrivals.push_back(std::move(c));
+    }
+    wake();
+  }
+
+  void release(std::unique_ptr<Connection> c) {
+    std::lock_guard<std::mutex> lock(mutex);
+    release_locked(std::move(c));
+  }
+  void release_locked(std::unique_ptr<Connection> c) {
+    if (auto it = per_address.find(c->address); it != per_address.end() && --it->second <= 0) per_address.erase(it);
+    --open;
+  }
+
+  // ---- The waiting room (its own thread) ----
+
+  void run_waiting_room() {
+    std::vector<pollfd> polled;
+    for (;;) {
+      std::vector<std::unique_ptr<Connection>> arrived;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (stopping) break;
+        arrived.swap(arrivals);
+      }
+      // A connection handed back may hold a pipelined request, or TLS data already decrypted
+      // that poll() cannot see: look at every arrival once before waiting.
+      for (auto& c : arrived)
+        if (advance(c)) waiting.push_back(std::move(c));
+      polled.assign(1, pollfd{wake_fd, POLLIN, 0});
+      Clock::time_point next = Clock::time_point::max();
+      for (const auto& c : waiting) {
+        polled.push_back(pollfd{c->socket, short(c->tls_wants_write ? POLLOUT : POLLIN), 0});
+        next = std::min(next, c->deadline);
+      }
+      if (::poll(polled.data(), polled.size(), next == Clock::time_point::max() ? -1 : ms_until(next)) < 0) {
+        if (errno != EINTR) std::this_thread::sleep_for(std::chrono::milliseconds(10));  // e.g. ENOMEM: try again
+        continue;
+      }
+      if (polled[0].revents) {
+        std::uint64_t count;
+        [[maybe_unused]] const ssize_t n = ::read(wake_fd, &count, sizeof count);
+      }
+      const auto now = Clock::now();
+      for (std::size_t i = 0; i + 1 < polled.size(); ++i) {
+        auto& c = waiting[i];
+        if (polled[i + 1].revents && !advance(c)) continue;  // it left; `c` is empty
+        // Checked also when bytes came: a client dribbling fast still has only its deadline.
+        if (now >= c->deadline) expire(std::move(c));
+      }
+      waiting.erase(std::remove(waiting.begin(), waiting.end(), nullptr), waiting.end());
+    }
+    for (auto& c : waiting) release(std::move(c));
+    waiting.clear();
+  }
+
+  // Moves a connection on as far as its bytes allow. False when it left the waiting room
+  // (handed to a worker, answered or closed; `c` is then empty).
+  bool advance(std::unique_ptr<Connection>& c) {
+    if (c->phase == Connection::Phase::Handshake) {
+      const int r = SSL_accept(c->tls);
+      if (r != 1) {
+        const int e = SSL_get_error(c->tls, r);
+        if (e != SSL_ERROR_WANT_READ && e != SSL_ERROR_WANT_WRITE) return release(std::move(c)), false;
+        c->tls_wants_write = e == SSL_ERROR_WANT_WRITE;
+        return true;
+      }
+      c->tls_wants_write = false;
+      c->phase = Connection::Phase::Idle;
+      c->deadline = after(limits.idle_timeout_s);
+    }
+    receive_available(*c);
+    if (c->phase == Connection::Phase::Idle && !c->received.empty()) c->start_request(limits.request_deadline_s);
+    switch (request_readiness(c->received)) {
+      case Readiness::Ready:
+        if (c->refused) {
+          const std::string message = "too many open connections from " + c->address + " (at most " +
+                                      std::to_string(limits.max_per_address) + "); close idle ones or retry later";
+          answer_and_close(std::move(c), refusal(503, message, "", "too_many_connections", kRetryAfterSeconds));
+        } else {
+          dispatch(std::move(c));
+        }
+        return false;
+      case Readiness::HeadersTooLarge:
+        answer_and_close(std::move(c), refusal(431, "the request headers are larger than " + std::to_string(kMaxHeaderBytes) + " bytes",
+                                               "headers", "headers_too_large"));
+        return false;
+      case Readiness::Incomplete:
+        if (c->peer_closed) return release(std::move(c)), false;
+        return true;
+    }
+    return true;
+  }
+
+  // Reads what has arrived, up to the most a request may hold before a worker takes it.
+  void receive_available(Connection& c) {
+    char buffer[16 * 1024];
+    while (c.received.size() < kMaxHeaderBytes + kMaxBufferedBody) {
+      std::size_t n = 0;
+      short events = 0;
+      const Transfer t = read_some(c, buffer, std::min(sizeof buffer, kMaxHeaderBytes + kMaxBufferedBody - c.received.size()), n, events);
+      if (t == Transfer::WouldBlock) {
+        c.tls_wants_write = events == POLLOUT;  // TLS may need to write before it can read
+        return;
+      }
+      if (t == Transfer::Failed || n == 0) {
+        c.peer_closed = true;
+        return;
+      }
+      c.received.append(buffer, n);
+    }
+  }
+
+  // A deadline passed: a request started and not finished gets 408; idle ones just close.
+  void expire(std::unique_ptr<Connection> c) {
+    if (c->phase == Connection::Phase::Receiving)
+      answer_and_close(std::move(c), refusal(408, "the request did not arrive within " + seconds(limits.request_deadline_s) +
+                                                      " s of its first byte", "", "request_timeout"));
+    else
+      release(std::move(c));
+  }
+
+  static std::string seconds(double s) {
+    std::string text = std::to_string(s);
+    text.erase(text.find_last_not_of('0') + 1);
+    if (text.back() == '.') text.pop_back();
+    return text;
+  }
+
+  // Best effort, never waiting: a refusal is a few hundred bytes, which a socket takes at once.
+  void answer_and_close(std::unique_ptr<Connection> c, const std::string& response) {
+    std::size_t n = 0;
+    short events = 0;
+    write_some(*c, response.data(), response.size(), n, events);
+    ::shutdown(c->socket, SHUT_WR);
+    release(std::move(c));
+  }
+
+  // ---- Workers ----
+
+  void dispatch(std::unique_ptr<Connection> c) {
+    Connection* raw = c.release();  // std::function needs a copyable job; the job owns it again
+    workers.enqueue([this, raw] { serve(std::unique_ptr<Connection>(raw)); });
+  }
+
+  void serve(std::unique_ptr<Connection> c) {
+    ConnectionStream stream(*c, after(limits.response_deadline_s));
+    bool stopping_now;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      stopping_now = stopping;
+    }
+    const bool close = stopping_now || c->peer_closed || c->requests_served + 1 >= limits.max_requests_per_connection;
+    bool closed_by_client = false;
+    const bool ok = process(stream, close, closed_by_client);
+    stream.forget_consumed();
+    ++c->requests_served;
+    if (!ok || close || closed_by_client) return release(std::move(c));
+    c->phase = Connection::Phase::Idle;
+    c->deadline = after(limits.idle_timeout_s);
+    to_waiting_room(std::move(c));
+  }
+
+  void stop() {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (stopped) return;
+      stopping = stopped = true;
+      for (auto& c : arrivals) release_locked(std::move(c));
+      arrivals.clear();
+    }
+    wake();
+    waiting_room.join();
+    workers.shutdown();  // requests in progress finish; their connections close
+    ::close(wake_fd);
+  }
+};
+
+ConnectionFront::ConnectionFront(const ConnectionLimits& limits, int worker_threads, ssl_ctx_st* tls, RequestProcessor process)
+    : impl_(std::make_unique<Impl>(limits, worker_threads, tls, std::move(process))) {}
+
+ConnectionFront::~ConnectionFront() { impl_->stop(); }
+
+void ConnectionFront::admit(int socket) { impl_->admit(socket); }
+
+void ConnectionFront::stop() { impl_->stop(); }
+
+int ConnectionFront::open_connections() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->open;
+}
+
+}  // namespace caliper::server
