@@ -37,11 +37,19 @@ using Clock = std::chrono::steady_clock;
 
 // Request headers larger than this get 431 (httplib itself allows 8 KiB per line).
 constexpr std::size_t kMaxHeaderBytes = 64 * 1024;
-// Bodies up to this size are received in the waiting room; a larger body's rest is read by its
-// worker (within the request deadline). Bounds the waiting room's memory: 128 KiB a connection.
-constexpr std::size_t kMaxBufferedBody = 64 * 1024;
-// A client over its address's connection cap is told to come back after this (Retry-After).
+// What any connection may hold in the waiting room: headers and a small body (most requests).
+constexpr std::size_t kBufferPerConnection = 2 * kMaxHeaderBytes;
+// Larger bodies (up to the server's body limit) are received whole too, drawing the excess from
+// this budget shared by all connections; while it is spent such requests get 503. So no worker
+// ever waits for a request's bytes, and the waiting room holds at most
+// max_total × kBufferPerConnection + kSharedBodyBudget (64 + 64 MiB by default).
+constexpr std::size_t kSharedBodyBudget = 64u << 20;
+// A client over its address's connection cap, or finding the budget spent, is told to come back
+// after this (Retry-After).
 constexpr int kRetryAfterSeconds = 2;
+// After a refusal the rest of the request is read and dropped for up to this long before the
+// socket closes, so the client reads the refusal instead of a reset.
+constexpr double kDrainSeconds = 2;
 
 Clock::time_point after(double seconds) {
   return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
@@ -76,7 +84,7 @@ void numeric_address(const sockaddr_storage& a, socklen_t length, std::string& i
 // One client connection. The waiting room or one worker owns it at a time; handing it over
 // (through the front's mutex or the worker pool's queue) orders their accesses.
 struct Connection {
-  enum class Phase { Handshake, Idle, Receiving };
+  enum class Phase { Handshake, Idle, Receiving, Draining };
 
   int socket = -1;
   SSL* tls = nullptr;  // null for plain HTTP
@@ -86,7 +94,10 @@ struct Connection {
   bool refused = false;           // over its address's cap: answered 503 once its request is in
   bool peer_closed = false;       // the client shut down its side after sending
   bool tls_wants_write = false;   // the handshake waits for the socket to take data
+  bool continue_sent = false;     // `100 Continue` was sent for the request being received
   std::string received;           // bytes received and not yet consumed by a request
+  std::size_t receive_limit = kBufferPerConnection;  // more while a large body has budget reserved
+  std::size_t reserved = 0;       // bytes of the shared body budget held for this request
   Clock::time_point deadline;          // of the current phase
   Clock::time_point request_deadline;  // of the request being received or served
   int requests_served = 0;
@@ -205,37 +216,43 @@ std::size_t find_header(const std::string& lower_headers, const std::string& nam
   return at == std::string::npos ? at : at + 1 + name.size();
 }
 
-enum class Readiness { Incomplete, Ready, HeadersTooLarge };
+// What the bytes received so far say about the request they begin.
+struct RequestShape {
+  enum class State { HeadersIncomplete, HeadersComplete, HeadersTooLarge, Chunked, BodyTooLarge } state;
+  std::size_t total = 0;          // HeadersComplete: header and body bytes together
+  bool expects_continue = false;  // the client waits for `100 Continue` before sending the body
+};
 
-// Whether the bytes received hold a whole request for a worker: the headers and either the whole
-// body (Content-Length) or the first kMaxBufferedBody bytes of it. A chunked body, or one the
-// client sends only after `100 Continue`, is left to the worker.
-Readiness request_readiness(const std::string& received) {
+RequestShape request_shape(const std::string& received, std::size_t max_body_bytes) {
+  using State = RequestShape::State;
   std::size_t end = received.find("\r\n\r\n"), separator = 4;
   if (const std::size_t bare = received.find("\n\n"); bare < end) end = bare, separator = 2;
   if (end == std::string::npos)
-    return received.size() > kMaxHeaderBytes ? Readiness::HeadersTooLarge : Readiness::Incomplete;
-  if (end > kMaxHeaderBytes) return Readiness::HeadersTooLarge;
+    return {received.size() > kMaxHeaderBytes ? State::HeadersTooLarge : State::HeadersIncomplete};
+  if (end > kMaxHeaderBytes) return {State::HeadersTooLarge};
   std::string headers = received.substr(0, end);
   for (char& ch : headers) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  if (find_header(headers, "transfer-encoding:") != std::string::npos || find_header(headers, "expect:") != std::string::npos)
-    return Readiness::Ready;
-  std::size_t content_length = 0;
+  if (find_header(headers, "transfer-encoding:") != std::string::npos) return {State::Chunked};
+  RequestShape shape{State::HeadersComplete, end + separator};
+  shape.expects_continue = find_header(headers, "expect:") != std::string::npos;
   if (std::size_t at = find_header(headers, "content-length:"); at != std::string::npos) {
     while (at < headers.size() && (headers[at] == ' ' || headers[at] == '\t')) ++at;
-    // A malformed length is httplib's to refuse (400); an oversized one its 413.
-    if (at == headers.size() || !std::isdigit(static_cast<unsigned char>(headers[at]))) return Readiness::Ready;
+    // A malformed length is httplib's to refuse (400): the request goes on as it is.
+    std::size_t length = 0;
     for (; at < headers.size() && std::isdigit(static_cast<unsigned char>(headers[at])); ++at) {
-      content_length = content_length * 10 + std::size_t(headers[at] - '0');
-      if (content_length > kMaxBufferedBody) return received.size() - end - separator >= kMaxBufferedBody ? Readiness::Ready : Readiness::Incomplete;
+      length = length * 10 + std::size_t(headers[at] - '0');
+      if (length > max_body_bytes) return {State::BodyTooLarge};
     }
+    shape.total += length;
   }
-  return received.size() - end - separator >= content_length ? Readiness::Ready : Readiness::Incomplete;
+  return shape;
 }
 
 std::string reason_phrase(int status) {
   switch (status) {
     case 408: return "Request Timeout";
+    case 411: return "Length Required";
+    case 413: return "Payload Too Large";
     case 431: return "Request Header Fields Too Large";
     case 503: return "Service Unavailable";
     default: return "Error";
@@ -257,6 +274,7 @@ std::string refusal(int status, const std::string& message, const std::string& f
 
 struct ConnectionFront::Impl {
   ConnectionLimits limits;
+  std::size_t max_body_bytes;
   SSL_CTX* tls;
   RequestProcessor process;
   httplib::ThreadPool workers;
@@ -266,13 +284,14 @@ struct ConnectionFront::Impl {
   std::vector<std::unique_ptr<Connection>> arrivals;  // new or handed back, for the waiting room to take
   std::unordered_map<std::string, int> per_address;   // open connections by client address
   int open = 0;
+  std::size_t body_budget_used = 0;  // of kSharedBodyBudget, by requests being received
   bool stopping = false, stopped = false;
 
   std::vector<std::unique_ptr<Connection>> waiting;  // the waiting room's own, touched by its thread only
   std::thread waiting_room;
 
-  Impl(const ConnectionLimits& l, int threads, SSL_CTX* t, RequestProcessor p)
-      : limits(l), tls(t), process(std::move(p)), workers(std::size_t(std::max(1, threads))) {
+  Impl(const ConnectionLimits& l, std::size_t max_body, int threads, SSL_CTX* t, RequestProcessor p)
+      : limits(l), max_body_bytes(max_body), tls(t), process(std::move(p)), workers(std::size_t(std::max(1, threads))) {
     wake_fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     waiting_room = std::thread([this] { run_waiting_room(); });
   }
@@ -335,6 +354,7 @@ struct ConnectionFront::Impl {
     release_locked(std::move(c));
   }
   void release_locked(std::unique_ptr<Connection> c) {
+    unreserve_body_locked(*c);
     if (auto it = per_address.find(c->address); it != per_address.end() && --it->second <= 0) per_address.erase(it);
     --open;
   }
@@ -382,50 +402,99 @@ struct ConnectionFront::Impl {
   }
 
   // Moves a connection on as far as its bytes allow. False when it left the waiting room
-  // (handed to a worker, answered or closed; `c` is then empty).
+  // (handed to a worker or closed; `c` is then empty).
   bool advance(std::unique_ptr<Connection>& c) {
-    if (c->phase == Connection::Phase::Handshake) {
-      const int r = SSL_accept(c->tls);
-      if (r != 1) {
-        const int e = SSL_get_error(c->tls, r);
-        if (e != SSL_ERROR_WANT_READ && e != SSL_ERROR_WANT_WRITE) return release(std::move(c)), false;
-        c->tls_wants_write = e == SSL_ERROR_WANT_WRITE;
-        return true;
-      }
-      c->tls_wants_write = false;
-      c->phase = Connection::Phase::Idle;
-      c->deadline = after(limits.idle_timeout_s);
+    switch (c->phase) {
+      case Connection::Phase::Draining:
+        return drain(*c) || (release(std::move(c)), false);
+      case Connection::Phase::Handshake:
+        if (!shake_hands(*c)) return release(std::move(c)), false;
+        if (c->phase == Connection::Phase::Handshake) return true;
+        break;
+      default: break;
     }
     receive_available(*c);
     if (c->phase == Connection::Phase::Idle && !c->received.empty()) c->start_request(limits.request_deadline_s);
-    switch (request_readiness(c->received)) {
-      case Readiness::Ready:
-        if (c->refused) {
-          const std::string message = "too many open connections from " + c->address + " (at most " +
-                                      std::to_string(limits.max_per_address) + "); close idle ones or retry later";
-          answer_and_close(std::move(c), refusal(503, message, "", "too_many_connections", kRetryAfterSeconds));
-        } else {
-          dispatch(std::move(c));
-        }
-        return false;
-      case Readiness::HeadersTooLarge:
-        answer_and_close(std::move(c), refusal(431, "the request headers are larger than " + std::to_string(kMaxHeaderBytes) + " bytes",
-                                               "headers", "headers_too_large"));
-        return false;
-      case Readiness::Incomplete:
-        if (c->peer_closed) return release(std::move(c)), false;
-        return true;
+    if (c->phase == Connection::Phase::Idle) return !c->peer_closed || (release(std::move(c)), false);
+    return take_request(c);
+  }
+
+  // False when the handshake failed; the phase becomes Idle once it is done.
+  bool shake_hands(Connection& c) {
+    const int r = SSL_accept(c.tls);
+    if (r != 1) {
+      const int e = SSL_get_error(c.tls, r);
+      c.tls_wants_write = e == SSL_ERROR_WANT_WRITE;
+      return e == SSL_ERROR_WANT_READ || e == SSL_ERROR_WANT_WRITE;
     }
+    c.tls_wants_write = false;
+    c.phase = Connection::Phase::Idle;
+    c.deadline = after(limits.idle_timeout_s);
     return true;
   }
 
-  // Reads what has arrived, up to the most a request may hold before a worker takes it.
+  // A request is being received: hand it to a worker once it is whole, refuse it, or wait.
+  bool take_request(std::unique_ptr<Connection>& c) {
+    using State = RequestShape::State;
+    const RequestShape shape = request_shape(c->received, max_body_bytes);
+    switch (shape.state) {
+      case State::HeadersTooLarge:
+        return refuse(*c, refusal(431, "the request headers are larger than " + std::to_string(kMaxHeaderBytes) + " bytes",
+                                  "headers", "headers_too_large"));
+      case State::Chunked:
+        return refuse(*c, refusal(411, "send the body with a Content-Length (chunked request bodies are not accepted)",
+                                  "body", "length_required"));
+      case State::BodyTooLarge:
+        return refuse(*c, refusal(413, "the request body is too large", "body", "payload_too_large"));
+      case State::HeadersIncomplete: break;
+      case State::HeadersComplete:
+        if (c->refused)
+          return refuse(*c, refusal(503,
+                                    "too many open connections from " + c->address + " (at most " +
+                                        std::to_string(limits.max_per_address) + "); close idle ones or retry later",
+                                    "", "too_many_connections", kRetryAfterSeconds));
+        if (c->received.size() >= shape.total) {
+          dispatch(std::move(c));
+          return false;
+        }
+        if (shape.total > c->receive_limit && !reserve_body(*c, shape.total))
+          return refuse(*c, refusal(503, "the server is receiving too many large requests; retry later", "body",
+                                    "server_busy", kRetryAfterSeconds));
+        if (shape.expects_continue && !c->continue_sent) {
+          static const std::string kContinue = "HTTP/1.1 100 Continue\r\n\r\n";
+          std::size_t n = 0;
+          short events = 0;
+          write_some(*c, kContinue.data(), kContinue.size(), n, events);
+          c->continue_sent = true;
+        }
+        break;
+    }
+    return !c->peer_closed || (release(std::move(c)), false);
+  }
+
+  // Lets `c` receive a body of `total` request bytes in all, from the shared budget.
+  bool reserve_body(Connection& c, std::size_t total) {
+    std::lock_guard<std::mutex> lock(mutex);
+    const std::size_t extra = total - kBufferPerConnection;
+    if (body_budget_used + extra > kSharedBodyBudget) return false;
+    body_budget_used += extra;
+    c.reserved = extra;
+    c.receive_limit = total;
+    return true;
+  }
+  void unreserve_body_locked(Connection& c) {
+    body_budget_used -= c.reserved;
+    c.reserved = 0;
+    c.receive_limit = kBufferPerConnection;
+  }
+
+  // Reads what has arrived, up to what the request may hold.
   void receive_available(Connection& c) {
     char buffer[16 * 1024];
-    while (c.received.size() < kMaxHeaderBytes + kMaxBufferedBody) {
+    while (c.received.size() < c.receive_limit) {
       std::size_t n = 0;
       short events = 0;
-      const Transfer t = read_some(c, buffer, std::min(sizeof buffer, kMaxHeaderBytes + kMaxBufferedBody - c.received.size()), n, events);
+      const Transfer t = read_some(c, buffer, std::min(sizeof buffer, c.receive_limit - c.received.size()), n, events);
       if (t == Transfer::WouldBlock) {
         c.tls_wants_write = events == POLLOUT;  // TLS may need to write before it can read
         return;
@@ -438,13 +507,13 @@ struct ConnectionFront::Impl {
     }
   }
 
-  // A deadline passed: a request started and not finished gets 408; idle ones just close.
+  // A deadline passed: a request started and not finished gets 408; others just close.
   void expire(std::unique_ptr<Connection> c) {
-    if (c->phase == Connection::Phase::Receiving)
-      answer_and_close(std::move(c), refusal(408, "the request did not arrive within " + seconds(limits.request_deadline_s) +
-                                                      " s of its first byte", "", "request_timeout"));
-    else
-      release(std::move(c));
+    if (c->phase == Connection::Phase::Receiving &&
+        refuse(*c, refusal(408, "the request did not arrive within " + seconds(limits.request_deadline_s) + " s of its first byte",
+                           "", "request_timeout")))
+      return waiting.push_back(std::move(c));  // now draining (the loop skips it this round)
+    release(std::move(c));
   }
 
   static std::string seconds(double s) {
@@ -454,18 +523,44 @@ struct ConnectionFront::Impl {
     return text;
   }
 
-  // Best effort, never waiting: a refusal is a few hundred bytes, which a socket takes at once.
-  void answer_and_close(std::unique_ptr<Connection> c, const std::string& response) {
+  // Sends a refusal (best effort, never waiting: a few hundred bytes, which a socket takes at
+  // once) and ends the sending side; the connection then drains. Returns true: it stays.
+  bool refuse(Connection& c, const std::string& response) {
     std::size_t n = 0;
     short events = 0;
-    write_some(*c, response.data(), response.size(), n, events);
-    ::shutdown(c->socket, SHUT_WR);
-    release(std::move(c));
+    write_some(c, response.data(), response.size(), n, events);
+    if (c.tls) SSL_shutdown(c.tls);
+    ::shutdown(c.socket, SHUT_WR);
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      unreserve_body_locked(c);
+    }
+    c.received.clear();
+    c.received.shrink_to_fit();
+    c.phase = Connection::Phase::Draining;
+    c.tls_wants_write = false;
+    c.deadline = after(kDrainSeconds);
+    return true;
+  }
+
+  // Reads and drops whatever the client still sends after a refusal. False once it has closed.
+  static bool drain(Connection& c) {
+    char buffer[16 * 1024];
+    for (;;) {
+      const ssize_t n = ::recv(c.socket, buffer, sizeof buffer, MSG_DONTWAIT);
+      if (n > 0) continue;
+      return n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR);
+    }
   }
 
   // ---- Workers ----
 
   void dispatch(std::unique_ptr<Connection> c) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      unreserve_body_locked(*c);  // the budget bounds the waiting room; workers are few
+    }
+    c->continue_sent = false;
     Connection* raw = c.release();  // std::function needs a copyable job; the job owns it again
     workers.enqueue([this, raw] { serve(std::unique_ptr<Connection>(raw)); });
   }
@@ -503,8 +598,9 @@ struct ConnectionFront::Impl {
   }
 };
 
-ConnectionFront::ConnectionFront(const ConnectionLimits& limits, int worker_threads, ssl_ctx_st* tls, RequestProcessor process)
-    : impl_(std::make_unique<Impl>(limits, worker_threads, tls, std::move(process))) {}
+ConnectionFront::ConnectionFront(const ConnectionLimits& limits, std::size_t max_body_bytes, int worker_threads, ssl_ctx_st* tls,
+                                 RequestProcessor process)
+    : impl_(std::make_unique<Impl>(limits, max_body_bytes, worker_threads, tls, std::move(process))) {}
 
 ConnectionFront::~ConnectionFront() { impl_->stop(); }
 

@@ -3,19 +3,23 @@
 // httplib alone gives every open connection a worker thread for as long as it is open, and its
 // read timeout is per read, so a client sending one byte every few seconds holds a worker for
 // ever; a few dozen such clients deny all service (docs/reliability.md "Slow clients").
-// Here a worker is given a connection only once a whole request has arrived (headers, and a body
-// of up to 64 KiB): one thread, the waiting room, polls every connection that is idle, shaking
-// hands (TLS) or still receiving, with no worker held, and enforces
+// Here a worker is given a connection only once a whole request has arrived, headers and body:
+// one thread, the waiting room, polls every connection that is idle, shaking hands (TLS) or
+// still receiving, with no worker held, and enforces
 //   - a deadline for a whole request (headers + body) from its first byte, not per read,
 //   - a short idle wait for a kept-alive connection's next request,
 //   - a bounded TLS handshake,
-//   - a cap on open connections per client address (503 + Retry-After beyond it) and in all.
-// Workers then run httplib's own request processing (Server::process_request) on a stream that
-// serves the received bytes first and enforces the same deadlines on anything it still reads
-// or writes, and hand a kept-alive connection back to the waiting room.
+//   - a cap on open connections per client address (503 + Retry-After beyond it) and in all,
+//   - bounded buffers (bodies beyond a small per-connection allowance share one budget).
+// Refusals (408, 411, 413, 431, 503) are answered by the waiting room itself, which then reads
+// and drops the rest of the request for a moment so the client sees the answer, not a reset.
+// Workers run httplib's own request processing (Server::process_request) on a stream that
+// serves the received bytes and writes to the socket within a response deadline, and hand a
+// kept-alive connection back to the waiting room.
 //
 // Internal to apps/server: included by server.cpp and the front's own .cpp only.
 #pragma once
+#include <cstddef>
 #include <functional>
 #include <memory>
 
@@ -35,8 +39,10 @@ using RequestProcessor = std::function<bool(httplib::Stream& stream, bool close_
 
 class ConnectionFront {
  public:
+  // `max_body_bytes`: larger request bodies get 413 (ServerOptions::max_body_bytes).
   // `tls`: the server's TLS context (httplib::SSLServer::ssl_context()), or null for plain HTTP.
-  ConnectionFront(const ConnectionLimits& limits, int worker_threads, ssl_ctx_st* tls, RequestProcessor process);
+  ConnectionFront(const ConnectionLimits& limits, std::size_t max_body_bytes, int worker_threads, ssl_ctx_st* tls,
+                  RequestProcessor process);
   ~ConnectionFront();  // stop()s
   ConnectionFront(const ConnectionFront&) = delete;
   ConnectionFront& operator=(const ConnectionFront&) = delete;

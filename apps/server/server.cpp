@@ -80,7 +80,7 @@ struct Server::Impl {
     ssl_ctx_st* tls = nullptr;
     if constexpr (std::is_same_v<Fronted, FrontedServer<httplib::SSLServer>>) tls = fronted.ssl_context();
     auto made = std::make_unique<ConnectionFront>(
-        options.connections, std::max(1, options.threads), tls,
+        options.connections, options.max_body_bytes, std::max(1, options.threads), tls,
         [&fronted](httplib::Stream& stream, bool close_connection, bool& connection_closed) {
           return fronted.process_one_request(stream, close_connection, connection_closed);
         });
