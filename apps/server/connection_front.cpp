@@ -47,6 +47,9 @@ constexpr std::size_t kSharedBodyBudget = 64u << 20;
 // A client over its address's connection cap, or finding the budget spent, is told to come back
 // after this (Retry-After).
 constexpr int kRetryAfterSeconds = 2;
+// Responses a slow reader has not taken yet wait in the waiting room, not in a worker, up to
+// this much in all; beyond it a worker sends its response itself (within the response deadline).
+constexpr std::size_t kSharedResponseBudget = 64u << 20;
 // After a refusal the rest of the request is read and dropped for up to this long before the
 // socket closes, so the client reads the refusal instead of a reset.
 constexpr double kDrainSeconds = 2;
@@ -84,7 +87,7 @@ void numeric_address(const sockaddr_storage& a, socklen_t length, std::string& i
 // One client connection. The waiting room or one worker owns it at a time; handing it over
 // (through the front's mutex or the worker pool's queue) orders their accesses.
 struct Connection {
-  enum class Phase { Handshake, Idle, Receiving, Draining };
+  enum class Phase { Handshake, Idle, Receiving, Sending, Draining };
 
   int socket = -1;
   SSL* tls = nullptr;  // null for plain HTTP
@@ -98,6 +101,11 @@ struct Connection {
   std::string received;           // bytes received and not yet consumed by a request
   std::size_t receive_limit = kBufferPerConnection;  // more while a large body has budget reserved
   std::size_t reserved = 0;       // bytes of the shared body budget held for this request
+  std::string outgoing;           // the response being sent
+  std::size_t sent = 0;           // of `outgoing`
+  std::size_t outgoing_reserved = 0;  // bytes of the shared response budget held while Sending
+  short send_events = POLLOUT;    // what sending waits for (TLS may need to read first)
+  bool close_after_sending = false;
   Clock::time_point deadline;          // of the current phase
   Clock::time_point request_deadline;  // of the request being received or served
   int requests_served = 0;
@@ -160,13 +168,15 @@ Transfer write_some(Connection& c, const char* data, std::size_t size, std::size
 // every read bounded by the request's deadline and every write by the response's.
 class ConnectionStream final : public httplib::Stream {
  public:
-  ConnectionStream(Connection& c, Clock::time_point write_deadline) : c_(c), write_deadline_(write_deadline) {}
+  explicit ConnectionStream(Connection& c) : c_(c) {}
 
   bool is_readable() const override {
     return consumed_ < c_.received.size() || (c_.tls && SSL_pending(c_.tls) > 0) ||
            wait_for(c_.socket, POLLIN, c_.request_deadline);
   }
-  bool is_writable() const override { return wait_for(c_.socket, POLLOUT, write_deadline_); }
+  // Responses are collected whole and sent afterwards (Impl::send_response), so a client that
+  // reads slowly never holds the worker that built its answer.
+  bool is_writable() const override { return true; }
 
   ssize_t read(char* out, size_t size) override {
     if (consumed_ < c_.received.size()) {
@@ -177,7 +187,10 @@ class ConnectionStream final : public httplib::Stream {
     }
     return transfer(read_some, out, size, c_.request_deadline);
   }
-  ssize_t write(const char* data, size_t size) override { return transfer(write_some, data, size, write_deadline_); }
+  ssize_t write(const char* data, size_t size) override {
+    c_.outgoing.append(data, size);
+    return ssize_t(size);
+  }
 
   void get_remote_ip_and_port(std::string& ip, int& port) const override { ip = c_.address, port = c_.port; }
   void get_local_ip_and_port(std::string& ip, int& port) const override { ip = c_.local_address, port = c_.local_port; }
@@ -205,7 +218,6 @@ class ConnectionStream final : public httplib::Stream {
   }
 
   Connection& c_;
-  Clock::time_point write_deadline_;
   std::size_t consumed_ = 0;
 };
 
@@ -284,7 +296,8 @@ struct ConnectionFront::Impl {
   std::vector<std::unique_ptr<Connection>> arrivals;  // new or handed back, for the waiting room to take
   std::unordered_map<std::string, int> per_address;   // open connections by client address
   int open = 0;
-  std::size_t body_budget_used = 0;  // of kSharedBodyBudget, by requests being received
+  std::size_t body_budget_used = 0;      // of kSharedBodyBudget, by requests being received
+  std::size_t response_budget_used = 0;  // of kSharedResponseBudget, by responses being sent
   bool stopping = false, stopped = false;
 
   std::vector<std::unique_ptr<Connection>> waiting;  // the waiting room's own, touched by its thread only
@@ -355,6 +368,7 @@ struct ConnectionFront::Impl {
   }
   void release_locked(std::unique_ptr<Connection> c) {
     unreserve_body_locked(*c);
+    response_budget_used -= c->outgoing_reserved;
     if (auto it = per_address.find(c->address); it != per_address.end() && --it->second <= 0) per_address.erase(it);
     --open;
   }
@@ -377,7 +391,8 @@ struct ConnectionFront::Impl {
       polled.assign(1, pollfd{wake_fd, POLLIN, 0});
       Clock::time_point next = Clock::time_point::max();
       for (const auto& c : waiting) {
-        polled.push_back(pollfd{c->socket, short(c->tls_wants_write ? POLLOUT : POLLIN), 0});
+        const short events = c->phase == Connection::Phase::Sending ? c->send_events : c->tls_wants_write ? POLLOUT : POLLIN;
+        polled.push_back(pollfd{c->socket, events, 0});
         next = std::min(next, c->deadline);
       }
       if (::poll(polled.data(), polled.size(), next == Clock::time_point::max() ? -1 : ms_until(next)) < 0) {
@@ -407,6 +422,12 @@ struct ConnectionFront::Impl {
     switch (c->phase) {
       case Connection::Phase::Draining:
         return drain(*c) || (release(std::move(c)), false);
+      case Connection::Phase::Sending:
+        if (!send_some(*c)) return release(std::move(c)), false;
+        if (c->sent < c->outgoing.size()) return true;
+        c = response_sent(std::move(c));
+        if (!c) return false;
+        break;  // a pipelined request may be waiting
       case Connection::Phase::Handshake:
         if (!shake_hands(*c)) return release(std::move(c)), false;
         if (c->phase == Connection::Phase::Handshake) return true;
@@ -566,7 +587,7 @@ struct ConnectionFront::Impl {
   }
 
   void serve(std::unique_ptr<Connection> c) {
-    ConnectionStream stream(*c, after(limits.response_deadline_s));
+    ConnectionStream stream(*c);
     bool stopping_now;
     {
       std::lock_guard<std::mutex> lock(mutex);
@@ -577,10 +598,59 @@ struct ConnectionFront::Impl {
     const bool ok = process(stream, close, closed_by_client);
     stream.forget_consumed();
     ++c->requests_served;
-    if (!ok || close || closed_by_client) return release(std::move(c));
+    c->close_after_sending = !ok || close || closed_by_client;
+    c->deadline = after(limits.response_deadline_s);
+    // What the socket takes at once is sent now; the rest waits in the waiting room if the
+    // budget allows, else this worker sends it (bounded by the response deadline).
+    if (!send_some(*c)) return release(std::move(c));
+    if (c->sent < c->outgoing.size()) {
+      if (reserve_response(*c)) {
+        c->phase = Connection::Phase::Sending;
+        return to_waiting_room(std::move(c));
+      }
+      while (c->sent < c->outgoing.size())
+        if (!wait_for(c->socket, c->send_events, c->deadline) || !send_some(*c)) return release(std::move(c));
+    }
+    if (auto next = response_sent(std::move(c))) to_waiting_room(std::move(next));
+  }
+
+  // Sends what the socket takes now; false when the connection failed.
+  static bool send_some(Connection& c) {
+    while (c.sent < c.outgoing.size()) {
+      std::size_t n = 0;
+      const Transfer t = write_some(c, c.outgoing.data() + c.sent, c.outgoing.size() - c.sent, n, c.send_events);
+      if (t == Transfer::Failed) return false;
+      if (t == Transfer::WouldBlock) return true;
+      c.sent += n;
+    }
+    return true;
+  }
+
+  bool reserve_response(Connection& c) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (response_budget_used + c.outgoing.size() > kSharedResponseBudget) return false;
+    response_budget_used += c.outgoing.size();
+    c.outgoing_reserved = c.outgoing.size();
+    return true;
+  }
+
+  // The response is out: the connection closes, or waits for its next request (returned).
+  std::unique_ptr<Connection> response_sent(std::unique_ptr<Connection> c) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      response_budget_used -= c->outgoing_reserved;
+      c->outgoing_reserved = 0;
+    }
+    c->outgoing.clear();
+    c->outgoing.shrink_to_fit();
+    c->sent = 0;
+    if (c->close_after_sending) {
+      release(std::move(c));
+      return nullptr;
+    }
     c->phase = Connection::Phase::Idle;
     c->deadline = after(limits.idle_timeout_s);
-    to_waiting_room(std::move(c));
+    return c;
   }
 
   void stop() {

@@ -14,8 +14,10 @@
 // Refusals (408, 411, 413, 431, 503) are answered by the waiting room itself, which then reads
 // and drops the rest of the request for a moment so the client sees the answer, not a reset.
 // Workers run httplib's own request processing (Server::process_request) on a stream that
-// serves the received bytes and writes to the socket within a response deadline, and hand a
-// kept-alive connection back to the waiting room.
+// serves the received bytes and collects the response, send what the socket takes at once, and
+// hand the connection back to the waiting room, which sends the rest to a slow reader (within a
+// response deadline; bounded by a shared budget) and waits for a kept-alive connection's next
+// request.
 //
 // Internal to apps/server: included by server.cpp and the front's own .cpp only.
 #pragma once

@@ -13,6 +13,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -37,8 +39,11 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // A plain TCP client speaking raw bytes, from a chosen loopback address (127.0.0.x).
 class RawClient {
  public:
-  RawClient(int port, const std::string& from = "127.0.0.1") {
+  // `receive_buffer` > 0: a small socket receive buffer, so a client that stops reading stalls
+  // the server's sending soon.
+  RawClient(int port, const std::string& from = "127.0.0.1", int receive_buffer = 0) {
     fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (receive_buffer > 0) ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
     sockaddr_in local{};
     local.sin_family = AF_INET;
     ::inet_pton(AF_INET, from.c_str(), &local.sin_addr);
@@ -319,6 +324,37 @@ TEST(SlowClients, ALargeBodyIsReadWholeAndAStalledOneHoldsNoWorker) {
     ASSERT_EQ(status_of(answer), 200) << "request " << k << " beside 8 stalled bodies: " << answer;
   }
   EXPECT_LT(seconds_since(start), 2.0);
+}
+
+TEST(SlowClients, ClientsThatStopReadingHoldNoWorker) {
+  // An 8 MiB file: more than loopback's socket buffers take (4 MiB at most), so a client that
+  // does not read leaves most of the response unsent. Under httplib's loop the worker waited in
+  // its write for the 10 s deadline; here the waiting room holds the rest.
+  const std::string big = test::toy_web_root() + "/big.bin";
+  std::string content(8u << 20, '\0');
+  for (std::size_t i = 0; i < content.size(); ++i) content[i] = char('a' + i % 26);
+  std::ofstream(big, std::ios::binary) << content;
+  {
+    RunningServer s(options_with(ConnectionLimits{}, 2));
+    std::vector<std::unique_ptr<RawClient>> readers;
+    for (int i = 0; i < 4; ++i) {
+      readers.push_back(std::make_unique<RawClient>(s.port(), "127.0.0." + std::to_string(40 + i), 4096));
+      ASSERT_TRUE(readers.back()->send("GET /big.bin HTTP/1.1\r\nHost: localhost\r\n\r\n"));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // their responses are built and stuck
+    const auto start = Clock::now();
+    for (int k = 0; k < 5; ++k) {
+      RawClient c(s.port(), "127.0.1.3");
+      c.send(avatar_request(160 + k));
+      ASSERT_EQ(status_of(c.read_response(3)), 200) << "request " << k << " beside 4 clients not reading";
+    }
+    EXPECT_LT(seconds_since(start), 2.0);
+    // A slow reader that starts reading gets the whole file, intact.
+    const std::string response = readers[0]->read_response(8);
+    ASSERT_EQ(status_of(response), 200);
+    EXPECT_EQ(response.substr(response.find("\r\n\r\n") + 4), content);
+  }
+  std::filesystem::remove(big);
 }
 
 TEST(SlowClients, ChunkedBodiesGet411AndExpectContinueIsAnswered) {
