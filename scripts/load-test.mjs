@@ -108,7 +108,7 @@ function avatarBody() {
   const measurements = { stature: +stature.toFixed(1), weight: +random(50, 100).toFixed(1) };
   if (Math.random() < 0.6) measurements.span = +(stature * random(0.98, 1.05)).toFixed(1);
   if (Math.random() < 0.4) measurements.crotch_height = +(stature * random(0.44, 0.48)).toFixed(1);
-  return { sex, regressor: 'auto', noise: 'self', measurements };
+  return { sex, regressor: 'auto', noise: 'exact', measurements };  // the desktop page's defaults
 }
 
 // One frame of both controllers, held still at the given tips (grip poses, metres).
@@ -224,6 +224,8 @@ async function memoryPhase(base, pid) {
     if (k % 50 === 0) console.log(`memory: ${k} custom regressors, RSS ${rssMiB(pid).rss.toFixed(1)} MiB`);
   }
   agent.destroy();
+  console.log('memory phase requests:');
+  report(1);
 }
 
 // ---- Report ----

@@ -165,6 +165,12 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>(std::move(o
   Impl& s = *impl_;
   s.http.new_task_queue = [] { return new AdmitOnAcceptThread; };
   s.http.set_payload_max_length(s.options.max_body_bytes);
+  // What httplib advertises in `Keep-Alive: timeout=…, max=…` (the front enforces both). The
+  // timeout is a second short of the front's idle limit, so a client that honours it closes an
+  // idle connection before the server does, instead of sending a request into a closing socket.
+  const auto& limits = s.options.connections;
+  s.http.set_keep_alive_timeout(std::max<time_t>(1, static_cast<time_t>(limits.idle_timeout_s) - 1));
+  s.http.set_keep_alive_max_count(static_cast<size_t>(std::max(1, limits.max_requests_per_connection)));
   // httplib listens with a backlog of 5, so a burst of clients overflows the accept queue and
   // some connections fail. Remember the listening socket (SO_REUSEADDR as httplib would, but not
   // SO_REUSEPORT, which would let another process share the port) and re-listen after binding.
