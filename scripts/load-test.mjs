@@ -9,7 +9,7 @@
 //     session is created and paired, then a batch of controller samples (~7 frames of both
 //     controllers) is POSTed every 100 ms, as the capture page does;
 //   - optionally --slowloris N attack connections that send a request's header one byte every
-//     5 s (and reconnect when closed), and --memory, which first creates --sessions sessions and
+//     5 s (and reconnect when closed; from 127.0.2.x, or all from --slowloris-from ADDRESS), and --memory, which first creates --sessions sessions and
 //     asks for --regressors distinct custom regressors, printing the server's RSS as it goes.
 // Each client keeps one connection alive and binds its own loopback address (127.0.1.x), so the
 // server's per-address connection cap does not throttle the load itself; attackers use 127.0.2.x.
@@ -42,6 +42,7 @@ const config = {
   duration: option('duration', 30),
   interval: option('interval', 1000),
   slowloris: option('slowloris', 0),
+  slowlorisFrom: option('slowloris-from', ''),
   memory: option('memory', false),
   sessions: option('sessions', 600),
   regressors: option('regressors', 200),
@@ -124,6 +125,7 @@ function frames(t0, count, trigger) {
 
 // ---- Clients ----
 
+let refusals = 0;  // 503s the slow-loris connections got
 const results = new Map();  // kind → {ms: [], status5xx, errors, other}
 function record(kind, r) {
   if (!results.has(kind)) results.set(kind, { ms: [], s5xx: 0, errors: 0, other: 0, examples: [] });
@@ -178,7 +180,9 @@ function slowLoris(i, base, until) {
   return new Promise((resolve) => {
     const open = () => {
       if (Date.now() >= until) return resolve(closes);
-      const socket = net.connect({ host: url.hostname, port: Number(url.port), localAddress: `127.0.2.${1 + (i % 250)}` });
+      // From one address, refused connections would reconnect at once: pace them like the rest.
+      const localAddress = config.slowlorisFrom || `127.0.2.${1 + (i % 250)}`;
+      const socket = net.connect({ host: url.hostname, port: Number(url.port), localAddress });
       let at = 0, timer = null, ours = false;
       const drip = () => {
         if (Date.now() >= until) { ours = true; socket.destroy(); return; }
@@ -186,12 +190,12 @@ function slowLoris(i, base, until) {
         timer = setTimeout(drip, 5000);
       };
       socket.on('connect', drip);
-      socket.on('data', () => {});
+      socket.on('data', (d) => { if (/^HTTP\/1\.1 503/.test(d.toString())) refusals++; });
       socket.on('error', () => {});
       socket.on('close', () => {
         clearTimeout(timer);
         if (!ours) closes++;
-        setTimeout(open, 100);
+        setTimeout(open, config.slowlorisFrom ? 1000 : 100);
       });
     };
     open();
@@ -283,7 +287,10 @@ if (cpuBefore) {
   console.log(`server CPU time ${((ticks(cpuAfter) - ticks(cpuBefore)) / 100).toFixed(1)} s over ${seconds.toFixed(1)} s`);
 }
 const all = report(seconds);
-if (config.slowloris) console.log(`slow-loris connections closed by the server: ${closes}`);
+if (config.slowloris) {
+  console.log(`slow-loris connections (from ${config.slowlorisFrom || 'one address each'}) closed by the server: ${closes}, ` +
+    `of which answered 503: ${refusals}`);
+}
 if (before) console.log(`server RSS before ${before.rss.toFixed(1)} MiB, after ${after.rss.toFixed(1)} MiB (peak ${after.peak.toFixed(1)} MiB)`);
 if (server.child) {
   server.child.kill('SIGTERM');

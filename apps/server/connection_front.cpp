@@ -94,7 +94,7 @@ struct Connection {
   std::string address, local_address;
   int port = 0, local_port = 0;
   Phase phase = Phase::Idle;
-  bool refused = false;           // over its address's cap: answered 503 once its request is in
+  bool refused = false;           // over its address's cap: answered 503 at once
   bool peer_closed = false;       // the client shut down its side after sending
   bool tls_wants_write = false;   // the handshake waits for the socket to take data
   bool continue_sent = false;     // `100 Continue` was sent for the request being received
@@ -434,6 +434,12 @@ struct ConnectionFront::Impl {
         break;
       default: break;
     }
+    // Over its address's cap: answered at once, without waiting for a request that may never come.
+    if (c->refused)
+      return refuse(*c, refusal(503,
+                                "too many open connections from " + c->address + " (at most " +
+                                    std::to_string(limits.max_per_address) + "); close idle ones or retry later",
+                                "", "too_many_connections", kRetryAfterSeconds));
     receive_available(*c);
     if (c->phase == Connection::Phase::Idle && !c->received.empty()) c->start_request(limits.request_deadline_s);
     if (c->phase == Connection::Phase::Idle) return !c->peer_closed || (release(std::move(c)), false);
@@ -469,11 +475,6 @@ struct ConnectionFront::Impl {
         return refuse(*c, refusal(413, "the request body is too large", "body", "payload_too_large"));
       case State::HeadersIncomplete: break;
       case State::HeadersComplete:
-        if (c->refused)
-          return refuse(*c, refusal(503,
-                                    "too many open connections from " + c->address + " (at most " +
-                                        std::to_string(limits.max_per_address) + "); close idle ones or retry later",
-                                    "", "too_many_connections", kRetryAfterSeconds));
         if (c->received.size() >= shape.total) {
           dispatch(std::move(c));
           return false;
