@@ -9,7 +9,8 @@
 //     session is created and paired, then a batch of controller samples (~7 frames of both
 //     controllers) is POSTed every 100 ms, as the capture page does;
 //   - optionally --slowloris N attack connections that send a request's header one byte every
-//     5 s (and reconnect when closed; from 127.0.2.x, or all from --slowloris-from ADDRESS), and --memory, which first creates --sessions sessions and
+//     5 s (and reconnect when closed; from 127.0.2.x, or all from --slowloris-from ADDRESS),
+//     --flood N idle connections (10 per address, reopened when closed), and --memory, which first creates --sessions sessions and
 //     asks for --regressors distinct custom regressors, printing the server's RSS as it goes.
 // Each client keeps one connection alive and binds its own loopback address (127.0.1.x), so the
 // server's per-address connection cap does not throttle the load itself; attackers use 127.0.2.x.
@@ -43,6 +44,7 @@ const config = {
   interval: option('interval', 1000),
   slowloris: option('slowloris', 0),
   slowlorisFrom: option('slowloris-from', ''),
+  flood: option('flood', 0),
   memory: option('memory', false),
   sessions: option('sessions', 600),
   regressors: option('regressors', 200),
@@ -202,6 +204,22 @@ function slowLoris(i, base, until) {
   });
 }
 
+// A connection flood: connections that send nothing, 10 from each address (127.0.4.x), each
+// reopened as soon as the server closes it.
+function flood(i, base, until) {
+  const url = new URL(base);
+  return new Promise((resolve) => {
+    const open = () => {
+      if (Date.now() >= until) return resolve();
+      const socket = net.connect({ host: url.hostname, port: Number(url.port), localAddress: `127.0.4.${1 + Math.floor(i / 10) % 250}` });
+      const end = setTimeout(() => socket.destroy(), Math.max(0, until - Date.now()));
+      socket.on('error', () => {});
+      socket.on('close', () => { clearTimeout(end); setTimeout(open, 10); });
+    };
+    open();
+  });
+}
+
 // ---- Memory: many sessions and custom regressors ----
 
 async function memoryPhase(base, pid) {
@@ -271,16 +289,18 @@ const start = Date.now();
 const until = start + config.duration * 1000;
 const cpuBefore = server.pid ? readFileSync(`/proc/${server.pid}/stat`, 'utf8').split(') ')[1].split(' ') : null;
 const attackers = Array.from({ length: config.slowloris }, (_, i) => slowLoris(i, base, until));
+const flooders = Array.from({ length: config.flood }, (_, i) => flood(i, base, until));
 const clients = Array.from({ length: config.clients }, (_, i) =>
   (i < config.headsets ? headsetClient : desktopClient)(i, base, until));
 await Promise.all(clients);
 const seconds = (Date.now() - start) / 1000;
 const after = server.pid ? rssMiB(server.pid) : null;
 const closes = (await Promise.all(attackers)).reduce((a, b) => a + b, 0);
+await Promise.all(flooders);
 
 console.log(`server ${base} (pid ${server.pid || '?'}), ${config.clients} clients (${config.headsets} headsets posting samples ` +
   `every 100 ms, ${config.clients - config.headsets} desktop users, one request every ${config.interval} ms ±30 %), ` +
-  `${config.slowloris} slow-loris connections, ${seconds.toFixed(1)} s`);
+  `${config.slowloris} slow-loris connections, ${config.flood} idle flood connections, ${seconds.toFixed(1)} s`);
 if (cpuBefore) {
   const cpuAfter = readFileSync(`/proc/${server.pid}/stat`, 'utf8').split(') ')[1].split(' ');
   const ticks = (f) => Number(f[11]) + Number(f[12]);  // utime + stime (fields 14, 15)

@@ -50,6 +50,11 @@ constexpr int kRetryAfterSeconds = 2;
 // Responses a slow reader has not taken yet wait in the waiting room, not in a worker, up to
 // this much in all; beyond it a worker sends its response itself (within the response deadline).
 constexpr std::size_t kSharedResponseBudget = 64u << 20;
+// At the total cap a new connection is still let in, and a waiting connection of the address
+// with the most open is closed instead (its longest-waiting one): a flood of idle connections
+// from a few addresses cannot lock newcomers out. Up to this many are let in beyond the
+// cap before the waiting room catches up; more are closed at once.
+constexpr int kAdmittedBeyondTotal = 64;
 // After a refusal the rest of the request is read and dropped for up to this long before the
 // socket closes, so the client reads the refusal instead of a reset.
 constexpr double kDrainSeconds = 2;
@@ -107,6 +112,7 @@ struct Connection {
   short send_events = POLLOUT;    // what sending waits for (TLS may need to read first)
   bool close_after_sending = false;
   Clock::time_point deadline;          // of the current phase
+  Clock::time_point waiting_since;     // when it last started waiting for a request (eviction order)
   Clock::time_point request_deadline;  // of the request being received or served
   int requests_served = 0;
 
@@ -329,7 +335,7 @@ struct ConnectionFront::Impl {
       std::lock_guard<std::mutex> lock(mutex);
       int& from_address = per_address[c->address];
       // Beyond twice the cap (or the total) not even a refusal is worth a socket.
-      if (stopping || open >= limits.max_total || from_address >= 2 * limits.max_per_address) {
+      if (stopping || open >= limits.max_total + kAdmittedBeyondTotal || from_address >= 2 * limits.max_per_address) {
         if (from_address == 0) per_address.erase(c->address);
         return;  // ~Connection closes the socket
       }
@@ -337,6 +343,7 @@ struct ConnectionFront::Impl {
       ++open;
       c->refused = from_address > limits.max_per_address;
     }
+    c->waiting_since = Clock::now();
     ::fcntl(socket, F_SETFL, ::fcntl(socket, F_GETFL) | O_NONBLOCK);
     const int yes = 1;  // responses are written as headers then body: do not hold the body back
     ::setsockopt(socket, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
@@ -411,9 +418,26 @@ struct ConnectionFront::Impl {
         if (now >= c->deadline) expire(std::move(c));
       }
       waiting.erase(std::remove(waiting.begin(), waiting.end(), nullptr), waiting.end());
+      evict_beyond_total();
     }
     for (auto& c : waiting) release(std::move(c));
     waiting.clear();
+  }
+
+  // While more than max_total are open, closes waiting connections of the address that has the
+  // most open, the longest-waiting first: a flood spread over a few dozen addresses loses its own
+  // connections before a client with one or two does.
+  void evict_beyond_total() {
+    std::lock_guard<std::mutex> lock(mutex);
+    while (open > limits.max_total && !waiting.empty()) {
+      auto victim = waiting.begin();
+      for (auto it = waiting.begin(); it != waiting.end(); ++it) {
+        const int mine = per_address[(*it)->address], theirs = per_address[(*victim)->address];
+        if (mine > theirs || (mine == theirs && (*it)->waiting_since < (*victim)->waiting_since)) victim = it;
+      }
+      release_locked(std::move(*victim));
+      waiting.erase(victim);
+    }
   }
 
   // Moves a connection on as far as its bytes allow. False when it left the waiting room
@@ -651,6 +675,7 @@ struct ConnectionFront::Impl {
     }
     c->phase = Connection::Phase::Idle;
     c->deadline = after(limits.idle_timeout_s);
+    c->waiting_since = Clock::now();
     return c;
   }
 

@@ -224,6 +224,27 @@ TEST(SlowClients, ConnectionsBeyondTheCapOfOneAddressGet503WithRetryAfter) {
   EXPECT_EQ(status_of(again.read_response()), 200);
 }
 
+TEST(SlowClients, AFloodOfIdleConnectionsCannotLockNewcomersOut) {
+  // 40 connections that send nothing, 10 from each of 4 addresses (within the per-address cap),
+  // against a total cap of 20: newcomers are still served, and the flood's oldest are closed.
+  ConnectionLimits limits;
+  limits.max_total = 20;
+  RunningServer s(options_with(limits));
+  std::vector<std::unique_ptr<RawClient>> flood;
+  for (int i = 0; i < 40; ++i) {
+    flood.push_back(std::make_unique<RawClient>(s.port(), "127.0.0." + std::to_string(60 + i / 10)));
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // an order of arrival to evict by
+  }
+  for (int k = 0; k < 5; ++k) {
+    RawClient c(s.port(), "127.0.1.4");
+    c.send(avatar_request(160 + k));
+    ASSERT_EQ(status_of(c.read_response(3)), 200) << "newcomer " << k << " beside 40 idle connections";
+  }
+  EXPECT_LE(s.server().open_connections(), 20);
+  EXPECT_TRUE(flood.front()->closed_within(1.0)) << "the oldest idle connection was closed";
+  EXPECT_FALSE(flood.back()->closed_within(0.2)) << "the newest idle connection is still open";
+}
+
 TEST(SlowClients, ARequestDribbledPastItsDeadlineIsClosed) {
   ConnectionLimits limits;
   limits.request_deadline_s = 1.0;
