@@ -55,6 +55,9 @@ constexpr std::size_t kSharedResponseBudget = 64u << 20;
 // from a few addresses cannot lock newcomers out. Up to this many are let in beyond the
 // cap before the waiting room catches up; more are closed at once.
 constexpr int kAdmittedBeyondTotal = 64;
+// ... but only from an address with fewer open than this (a browser opens up to 6 per server):
+// a flood's own reconnects cannot use up that room before a newcomer gets it.
+constexpr int kMostOpenToGoBeyondTotal = 6;
 // After a refusal the rest of the request is read and dropped for up to this long before the
 // socket closes, so the client reads the refusal instead of a reset.
 constexpr double kDrainSeconds = 2;
@@ -335,7 +338,9 @@ struct ConnectionFront::Impl {
       std::lock_guard<std::mutex> lock(mutex);
       int& from_address = per_address[c->address];
       // Beyond twice the cap (or the total) not even a refusal is worth a socket.
-      if (stopping || open >= limits.max_total + kAdmittedBeyondTotal || from_address >= 2 * limits.max_per_address) {
+      const bool beyond_total = open >= limits.max_total &&
+                                (open >= limits.max_total + kAdmittedBeyondTotal || from_address >= kMostOpenToGoBeyondTotal);
+      if (stopping || beyond_total || from_address >= 2 * limits.max_per_address) {
         if (from_address == 0) per_address.erase(c->address);
         return;  // ~Connection closes the socket
       }
