@@ -226,6 +226,7 @@ async function memoryPhase(base, pid) {
   const agent = agentFor(200);
   const catalogue = ['span', 'crotch_height', 'hip_breadth', 'arm_length', 'chest_circumference', 'waist_circumference',
     'biacromial_breadth', 'buttock_circumference', 'thigh_circumference', 'neck_circumference'];
+  const started = Date.now();
   console.log(`memory: RSS ${rssMiB(pid).rss.toFixed(1)} MiB before`);
   for (let k = 1; k <= config.sessions; k++) {
     const r = await request(agent, base, 'POST', '/api/sessions', { mode: 'other', steps: 'core', sex: 'female', weight_kg: 60 });
@@ -247,7 +248,7 @@ async function memoryPhase(base, pid) {
   }
   agent.destroy();
   console.log('memory phase requests:');
-  report(1);
+  report((Date.now() - started) / 1000);
 }
 
 // ---- Report ----
