@@ -116,7 +116,6 @@ struct Connection {
   bool close_after_sending = false;
   Clock::time_point deadline;          // of the current phase
   Clock::time_point waiting_since;     // when it last started waiting for a request (eviction order)
-  Clock::time_point request_deadline;  // of the request being received or served
   int requests_served = 0;
 
   Connection() = default;
@@ -133,8 +132,7 @@ struct Connection {
   // The client's request has started: the whole of it must now arrive by the request deadline.
   void start_request(double request_deadline_s) {
     phase = Phase::Receiving;
-    request_deadline = after(request_deadline_s);
-    deadline = request_deadline;
+    deadline = after(request_deadline_s);
   }
 };
 
@@ -173,28 +171,24 @@ Transfer write_some(Connection& c, const char* data, std::size_t size, std::size
   return Transfer::Failed;
 }
 
-// What a worker's httplib sees: the bytes the waiting room received, then the socket, with
-// every read bounded by the request's deadline and every write by the response's.
+// What a worker's httplib sees: the request the waiting room received, whole, and a buffer for
+// the response. Nothing here touches the socket, so a worker never waits for the client.
 class ConnectionStream final : public httplib::Stream {
  public:
   explicit ConnectionStream(Connection& c) : c_(c) {}
 
-  bool is_readable() const override {
-    return consumed_ < c_.received.size() || (c_.tls && SSL_pending(c_.tls) > 0) ||
-           wait_for(c_.socket, POLLIN, c_.request_deadline);
-  }
-  // Responses are collected whole and sent afterwards (Impl::send_response), so a client that
-  // reads slowly never holds the worker that built its answer.
+  bool is_readable() const override { return consumed_ < c_.received.size(); }
+  // The response is collected whole and sent afterwards (Impl::serve), so a client that reads
+  // slowly never holds the worker that built its answer.
   bool is_writable() const override { return true; }
 
+  // Beyond the bytes received is the end: the request is whole (request_shape), so only a
+  // request that lied about its length reads further, and httplib refuses it.
   ssize_t read(char* out, size_t size) override {
-    if (consumed_ < c_.received.size()) {
-      const std::size_t n = std::min(size, c_.received.size() - consumed_);
-      std::memcpy(out, c_.received.data() + consumed_, n);
-      consumed_ += n;
-      return ssize_t(n);
-    }
-    return transfer(read_some, out, size, c_.request_deadline);
+    const std::size_t n = std::min(size, c_.received.size() - consumed_);
+    std::memcpy(out, c_.received.data() + consumed_, n);
+    consumed_ += n;
+    return ssize_t(n);
   }
   ssize_t write(const char* data, size_t size) override {
     c_.outgoing.append(data, size);
@@ -212,20 +206,6 @@ class ConnectionStream final : public httplib::Stream {
   }
 
  private:
-  template <class Op, class Buffer>
-  ssize_t transfer(Op op, Buffer buffer, std::size_t size, Clock::time_point deadline) {
-    for (;;) {
-      std::size_t n = 0;
-      short events = 0;
-      switch (op(c_, buffer, size, n, events)) {
-        case Transfer::Done: return ssize_t(n);
-        case Transfer::Failed: return -1;
-        case Transfer::WouldBlock:
-          if (!wait_for(c_.socket, events, deadline)) return -1;
-      }
-    }
-  }
-
   Connection& c_;
   std::size_t consumed_ = 0;
 };

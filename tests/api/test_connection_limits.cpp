@@ -155,6 +155,16 @@ ServerOptions options_with(ConnectionLimits limits, int threads = 32) {
   return o;
 }
 
+// The same with --https, on a self-signed certificate made in `dir`.
+ServerOptions https_options_with(ConnectionLimits limits, const test::TempDir& dir) {
+  const CertificateFiles cert = ensure_self_signed_certificate(dir / "tls", {"localhost", "127.0.0.1"});
+  ServerOptions o = options_with(limits);
+  o.https = true;
+  o.cert_file = cert.cert_file;
+  o.key_file = cert.key_file;
+  return o;
+}
+
 TEST(SlowClients, SlowLorisConnectionsOutnumberingTheWorkersDoNotStopOthers) {
   // 4 workers, 40 slow-loris connections from 40 loopback addresses (so no per-address cap is
   // what saves the server), each sending a header byte every 200 ms: under httplib's own loop
@@ -277,13 +287,8 @@ TEST(SlowClients, IdleConnectionsAndStalledTlsHandshakesAreClosed) {
     EXPECT_TRUE(silent.received().empty()) << "an idle close says nothing: " << silent.received();
   }
   test::TempDir dir;
-  const CertificateFiles cert = ensure_self_signed_certificate(dir / "tls", {"localhost", "127.0.0.1"});
-  ServerOptions o = options_with(limits);
-  o.connections.tls_handshake_s = 0.5;
-  o.https = true;
-  o.cert_file = cert.cert_file;
-  o.key_file = cert.key_file;
-  RunningServer s(o);
+  limits.tls_handshake_s = 0.5;
+  RunningServer s(https_options_with(limits, dir));
   RawClient no_hello(s.port());
   const auto start = Clock::now();
   EXPECT_TRUE(no_hello.closed_within(3.0));
@@ -403,12 +408,7 @@ TEST(SlowClients, ChunkedBodiesGet411AndExpectContinueIsAnswered) {
 
 TEST(SlowClients, HttpsServesKeptAliveRequests) {
   test::TempDir dir;
-  const CertificateFiles cert = ensure_self_signed_certificate(dir / "tls", {"localhost", "127.0.0.1"});
-  ServerOptions o = options_with(ConnectionLimits{});
-  o.https = true;
-  o.cert_file = cert.cert_file;
-  o.key_file = cert.key_file;
-  RunningServer s(o);
+  RunningServer s(https_options_with(ConnectionLimits{}, dir));
   httplib::SSLClient c("127.0.0.1", s.port());
   c.enable_server_certificate_verification(false);
   c.set_keep_alive(true);
