@@ -676,28 +676,45 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.df = 0.42 * d.cd * (female ? 0.88 : 1.0);
     r.db = 0.42 * d.cd;
     r.cz = -0.005;
-    r.p = 2.6;
+    // Round, not boxy, at the shoulders' top: the front and back of the shoulders turn into the
+    // arm's root without a corner.
+    r.p = 1.8;
     K[kHoleTop] = r;
   }
   const double neck_r = d.neckc / (2 * kPi);
   {
     TorsoRing& r = K[kNeck];
     r.y = y_nk;
-    r.a = neck_r * 1.02; r.df = neck_r * 0.95; r.db = neck_r * 1.02; r.cz = -0.02 * sc; r.p = 2.2;
+    r.a = neck_r * 1.02; r.df = neck_r * 0.95; r.db = neck_r * 1.02; r.p = 2.2;
     std::vector<Eigen::Vector2d> pts = torso_polygon(r);
     const double s = d.neckc / convex_hull_perimeter(pts);
     r.a *= s; r.df *= s; r.db *= s;
-    TorsoRing s1 = K[kHoleTop], s2 = K[kHoleTop];
+    // Where the neck stands on the shoulders' top: the depth the neck leaves free there is shared
+    // 60 : 40 between the sternal notch in front and the trapezius behind.
+    const TorsoRing& top = K[kHoleTop];
+    const double top_front = top.cz + top.df, top_back = top.cz - top.db;
+    const double slack = std::max(0.0, (top.df + top.db) - (r.df + r.db));
+    r.cz = top_front - 0.6 * slack - r.df;
+    const double neck_front = r.cz + r.df, neck_back = r.cz - r.db;
+    TorsoRing s1 = top, s2 = top;
     const double dy = y_nk - y_acr;
-    // The trapezius: shoulders fall away quickly from the neck, leaving a visible neck.
+    // The trapezius: from the front the shoulder line falls away from the neck in a concave curve.
+    // From the side the upper chest recedes early toward the throat (a front that stayed full up
+    // to the shoulders' top would fold there, worst on short necks), and the back of the neck
+    // curves out into the upper back: no collar at the neck's base.
+    auto between = [](TorsoRing& q, double front, double back) {
+      q.cz = 0.5 * (front + back);
+      q.df = front - q.cz;
+      q.db = q.cz - back;
+    };
     s1.y = y_acr + 0.3 * dy;
-    s1.a = K[kHoleTop].a - 0.5 * (K[kHoleTop].a - r.a);
-    s1.df = K[kHoleTop].df * 0.8; s1.db = K[kHoleTop].db * 0.85;
+    s1.a = top.a - 0.5 * (top.a - r.a);
+    between(s1, std::lerp(top_front, neck_front, 0.6), std::lerp(top_back, neck_back, 0.35));
     s2.y = y_acr + 0.6 * dy;
-    s2.a = std::max(r.a * 1.25, K[kHoleTop].a - 0.78 * (K[kHoleTop].a - r.a));  // the trapezius' slope
-    s2.df = r.df * 1.15; s2.db = r.db * 1.25;
-    s2.cz = 0.5 * (K[kHoleTop].cz + r.cz);
-    s2.p = 2.6;
+    s2.a = std::max(r.a * 1.25, top.a - 0.78 * (top.a - r.a));  // the trapezius' slope
+    between(s2, std::lerp(top_front, neck_front, 0.88), std::lerp(top_back, neck_back, 0.8));
+    s1.p = 1.9;
+    s2.p = 2.0;
     K[kShoulder1] = s1;
     K[kShoulder2] = s2;
   }
@@ -712,11 +729,12 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.cz = head_cz;
     // The head's centre sits forward of the neck's: the back radius grows by that offset so the back
     // of the neck stays straight (a slight hollow only) up to the skull.
-    r.a = 0.6 * hb2; r.db = K[kNeck].db * 0.95 + (head_cz - K[kNeck].cz) - 0.01 * hs; r.df = 0.78 * hl2; r.p = 2.2;
+    r.a = std::max(0.7 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) - 0.004 * hs; r.df = 0.78 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
     K[kChin] = r;
     // The back of the neck runs up to the occiput; the skull bulges out only above it.
-    r.y = y_mouth; r.a = 0.78 * hb2; r.df = 0.84 * hl2;
+    r.y = y_mouth; r.a = std::max(0.8 * hb2, r.a + 0.003 * hs);  // never narrower than the jaw below
+    r.df = 0.84 * hl2;
     r.db = 0.35 * (K[kNeck].db + (head_cz - K[kNeck].cz)) + 0.65 * 0.82 * hl2;
     r.chin = 0.004 * hs;
     K[kMouth] = r;
@@ -1941,7 +1959,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         const double X = x / hu, Y = (y - y_g) / (hu * face);
         double f = 0;
         f += 0.22 * blob(X - 2.9, Y + 0.6, 2.6, 0.55);   // brow ridge, under the glabella ring
-        f -= 0.60 * blob(X - 3.2, Y + 2.35, 2.2, 1.5);   // eye socket
+        f -= 0.45 * blob(X - 3.2, Y + 2.35, 2.0, 1.35);  // eye socket
         f += 0.22 * blob(X - 3.2, Y + 2.45, 1.2, 0.75);  // the eye (lids) inside it
         f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
         // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
