@@ -203,6 +203,11 @@ Eigen::MatrixX3d BodyModel::joints(const Vertices& rest) const {
   return data_.joint_regressor * rest;
 }
 
+BodyModel BodyModel::supplied_by(ErrorOrigin origin) && {
+  data_.supplied_by = origin;
+  return std::move(*this);
+}
+
 BodyModel BodyModel::truncated(int k) const {
   if (k < 1 || k > shape_count())
     throw Error(ErrorKind::OutOfRange,

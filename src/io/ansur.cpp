@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
+#include "gate.h"
 #include "caliper/measure/catalogue.h"
 
 namespace caliper {
@@ -69,7 +70,9 @@ double ansur_to_si(const std::string& column, double raw) {
   return raw / 1000.0;
 }
 
-std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::string& source) {
+namespace {
+// The reader itself; the public function below is its gate.
+std::vector<AnsurSubject> parse_rows(const std::string& text, const std::string& source) {
   std::istringstream in(text);
   std::string line;
   std::vector<std::string> header;
@@ -124,6 +127,11 @@ std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::st
   }
   if (header.empty()) throw Error(ErrorKind::Format, source + ": empty file", "header");
   return subjects;
+}
+}  // namespace
+
+std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::string& source) {
+  return gate(source, "header", [&] { return parse_rows(text, source); });
 }
 
 std::vector<AnsurSubject> read_ansur_csv(const std::string& path) {
