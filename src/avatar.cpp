@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 #include "caliper/measure/measure.h"
 
 namespace caliper {

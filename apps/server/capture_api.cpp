@@ -17,7 +17,7 @@
 #include "caliper/capture/measurement_set.h"
 #include "caliper/capture/service.h"
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 #include "json_body.h"
 
 namespace caliper::server {

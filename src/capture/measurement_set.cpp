@@ -11,7 +11,7 @@
 
 #include "caliper/errors.h"
 #include "gate.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 
 namespace caliper {
 

@@ -11,7 +11,7 @@
 
 #include "caliper/errors.h"
 #include "caliper/evaluation/linear_limit.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 #include "caliper/measure/measure.h"
 #include "caliper/random.h"
 #include "parallel.h"

@@ -9,7 +9,7 @@
 
 #include "caliper/errors.h"
 #include "gate.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 #include "json_read.h"
 
 namespace caliper {

@@ -13,13 +13,10 @@
 
 #include "caliper/body/mesh.h"
 #include "caliper/errors.h"
-#include "caliper/measure/definitions.h"
+#include "caliper/vocabulary/definitions.h"
+#include "caliper/vocabulary/sex.h"
 
 namespace caliper {
-
-enum class Sex { Female, Male, Neutral };
-const char* to_string(Sex sex);
-Sex parse_sex(const std::string& text);  // "female"|"male"|"neutral" (also f/m/n); throws Error
 
 // weight_kg = a · volume_m3 + b  (paper §3.4.2). The paper's fit on CAESAR is the default.
 struct WeightFromVolume {
