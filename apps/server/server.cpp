@@ -1,37 +1,91 @@
-// The HTTP transport: cpp-httplib with a worker pool, a body-size limit, the API under /api/ and
-// the front end's static files. httplib.h is included only here: its <resolv.h> defines a `_res`
-// macro that breaks Eigen, and no Eigen header is reachable from this file.
+// The HTTP transport: cpp-httplib for parsing, routing and writing, the connection front
+// (connection_front.h) for holding connections, a body-size limit, the API under /api/ and the
+// front end's static files. httplib.h is included only by this file and connection_front.cpp: its
+// <resolv.h> defines a `_res` macro that breaks Eigen, and no Eigen header is reachable from either.
 #include "server.h"
 
 #include <httplib.h>
 #include <sys/socket.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <type_traits>
 
 #include "caliper/errors.h"
+#include "connection_front.h"
 #include "host_check.h"
 #include "static_files.h"
 
 namespace caliper::server {
+namespace {
+
+// httplib's Server or SSLServer with its per-connection loop (a worker held for as long as the
+// connection is open) replaced by the connection front: httplib hands over each accepted
+// socket, and the front calls back into httplib for each whole request it has received.
+template <class HttplibServer>
+class FrontedServer final : public HttplibServer {
+ public:
+  using HttplibServer::HttplibServer;
+
+  void attach(ConnectionFront* front) { front_ = front; }
+  bool process_one_request(httplib::Stream& stream, bool close_connection, bool& connection_closed) {
+    return this->process_request(stream, close_connection, connection_closed, nullptr);
+  }
+
+ private:
+  bool process_and_close_socket(socket_t socket) override {
+    front_->admit(socket);
+    return true;
+  }
+
+  ConnectionFront* front_ = nullptr;
+};
+
+// httplib gives every accepted socket to its task queue; the front takes it at once, on the
+// accept thread, so accepting never waits for a worker.
+class AdmitOnAcceptThread final : public httplib::TaskQueue {
+ public:
+  void enqueue(std::function<void()> admit) override { admit(); }
+  void shutdown() override {}
+};
+
+}  // namespace
 
 struct Server::Impl {
   ServerOptions options;
   Api api;
-  std::unique_ptr<httplib::Server> owned_http;  // httplib::SSLServer with --https
+  std::unique_ptr<httplib::Server> owned_http;  // a FrontedServer<httplib::SSLServer> with --https
   httplib::Server& http;
+  std::unique_ptr<ConnectionFront> front;  // after `api` and `http`: its workers use both until it stops
   int port = -1;
   int listen_socket = -1;  // captured from httplib to raise its listen backlog
 
-  explicit Impl(ServerOptions o) : options(std::move(o)), api(options.api), owned_http(make_http(options)), http(*owned_http) {}
+  explicit Impl(ServerOptions o) : options(std::move(o)), api(options.api), owned_http(make_http(options)), http(*owned_http) {
+    if (options.https) front = make_front(static_cast<FrontedServer<httplib::SSLServer>&>(http));
+    else front = make_front(static_cast<FrontedServer<httplib::Server>&>(http));
+  }
 
   static std::unique_ptr<httplib::Server> make_http(const ServerOptions& o) {
-    if (!o.https) return std::make_unique<httplib::Server>();
-    auto ssl = std::make_unique<httplib::SSLServer>(o.cert_file.c_str(), o.key_file.c_str());
+    if (!o.https) return std::make_unique<FrontedServer<httplib::Server>>();
+    auto ssl = std::make_unique<FrontedServer<httplib::SSLServer>>(o.cert_file.c_str(), o.key_file.c_str());
     if (!ssl->is_valid())
       throw Error(ErrorKind::Io, "cannot serve HTTPS with certificate '" + o.cert_file + "' and key '" + o.key_file +
                                      "' (missing, unreadable, or not a matching PEM pair)", "--cert");
     return ssl;
+  }
+
+  template <class Fronted>
+  std::unique_ptr<ConnectionFront> make_front(Fronted& fronted) const {
+    ssl_ctx_st* tls = nullptr;
+    if constexpr (std::is_same_v<Fronted, FrontedServer<httplib::SSLServer>>) tls = fronted.ssl_context();
+    auto made = std::make_unique<ConnectionFront>(
+        options.connections, options.max_body_bytes, std::max(1, options.threads), tls,
+        [&fronted](httplib::Stream& stream, bool close_connection, bool& connection_closed) {
+          return fronted.process_one_request(stream, close_connection, connection_closed);
+        });
+    fronted.attach(made.get());
+    return made;
   }
 
   static void send(httplib::Response& res, const ApiResponse& r) {
@@ -109,15 +163,14 @@ struct Server::Impl {
 
 Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {
   Impl& s = *impl_;
-  const int threads = std::max(1, s.options.threads);
-  s.http.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
+  s.http.new_task_queue = [] { return new AdmitOnAcceptThread; };
   s.http.set_payload_max_length(s.options.max_body_bytes);
-  s.http.set_read_timeout(10, 0);
-  // httplib gives every connection a worker thread for as long as it stays open, idle keep-alive
-  // included, so browsers (six connections each) and keep-alive clients could hold all workers
-  // while others queue. Short keep-alive on loopback costs a reconnect, not a stall.
-  s.http.set_keep_alive_timeout(1);
-  s.http.set_keep_alive_max_count(100);
+  // What httplib advertises in `Keep-Alive: timeout=…, max=…` (the front enforces both). The
+  // timeout is a second short of the front's idle limit, so a client that honours it closes an
+  // idle connection before the server does, instead of sending a request into a closing socket.
+  const auto& limits = s.options.connections;
+  s.http.set_keep_alive_timeout(std::max<time_t>(1, static_cast<time_t>(limits.idle_timeout_s) - 1));
+  s.http.set_keep_alive_max_count(static_cast<size_t>(std::max(1, limits.max_requests_per_connection)));
   // httplib listens with a backlog of 5, so a burst of clients overflows the accept queue and
   // some connections fail. Remember the listening socket (SO_REUSEADDR as httplib would, but not
   // SO_REUSEPORT, which would let another process share the port) and re-listen after binding.
@@ -126,7 +179,6 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>(std::move(o
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
     s.listen_socket = sock;
   });
-  s.http.set_write_timeout(10, 0);
   // No response compression: on loopback it only costs time, and httplib 0.11 picks brotli at
   // its slowest quality whenever the client accepts it (over 20 s for three.js's 1.5 MB, and
   // milliseconds on every avatar). httplib decides from the request's Accept-Encoding when it
@@ -195,10 +247,13 @@ int Server::port() const { return impl_->port; }
 void Server::run() {
   if (impl_->port < 0) bind();
   impl_->http.listen_after_bind();
+  impl_->front->stop();  // accepting has ended (stop() or a failure): close what is still open
 }
 
 void Server::stop() { impl_->http.stop(); }
 
 const Api& Server::api() const { return impl_->api; }
+
+int Server::open_connections() const { return impl_->front->open_connections(); }
 
 }  // namespace caliper::server

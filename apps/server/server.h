@@ -11,12 +11,26 @@
 
 namespace caliper::server {
 
+// How many connections the server keeps open and for how long (apps/server/connection_front.h;
+// docs/api.md "Limits and concurrency"). A connection holds no worker thread while it is idle or
+// still sending its request, so these bound sockets and buffers, not threads.
+struct ConnectionLimits {
+  int max_per_address = 16;           // open connections from one client address; the next get 503 + Retry-After
+  int max_total = 512;                // open connections in all; beyond it a new connection is closed unanswered
+  double request_deadline_s = 10;     // a whole request (headers and body) must arrive within this of its first byte
+  double idle_timeout_s = 5;          // a connection is closed when no request starts within this (new or kept alive)
+  double tls_handshake_s = 5;         // a TLS handshake must finish within this of the connection's accept
+  double response_deadline_s = 10;    // a response must be written within this of its request being complete
+  int max_requests_per_connection = 1000;  // then the connection is closed (the client reconnects)
+};
+
 struct ServerOptions {
   std::string host = "127.0.0.1";
   int port = 8080;                         // 0: any free port (see Server::port())
   std::string web_root;                    // folder of the built front end (web/dist)
-  int threads = 32;                        // worker threads; each open connection holds one
+  int threads = 32;                        // worker threads; a connection holds one only while its request runs
   std::size_t max_body_bytes = 1 << 20;    // larger request bodies get 413
+  ConnectionLimits connections;
   ApiOptions api;
   std::function<void(const std::string&)> log;  // one line per request; empty: quiet
   // HTTPS (headsets need a secure context for WebXR): PEM certificate and private key files.
@@ -41,6 +55,8 @@ class Server {
   void run();
   void stop();
   const Api& api() const;
+  // Connections open now: idle, receiving, being served or being refused.
+  int open_connections() const;
 
  private:
   struct Impl;
