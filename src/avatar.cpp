@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 #include "caliper/measure/measure.h"
 
 namespace caliper {
@@ -15,7 +15,9 @@ namespace caliper {
 AvatarBuilder::AvatarBuilder(std::shared_ptr<const BodyModel> model)
     : model_(model ? std::move(model) : throw Error(ErrorKind::InvalidArgument, "no body model", "model")), map_(model_) {
   auto it = model_->data().metadata.find("real_to_virtual");
-  if (it != model_->data().metadata.end()) maps_ = RealToVirtual::from_json(it->second);
+  if (it == model_->data().metadata.end()) return;
+  const auto read_maps = [&] { return RealToVirtual::from_json(it->second); };
+  maps_ = model_->data().supplied_by == ErrorOrigin::Installation ? installation_input(read_maps) : read_maps();
 }
 
 namespace {

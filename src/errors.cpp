@@ -13,4 +13,8 @@ const char* to_string(ErrorKind kind) {
   return "unknown";
 }
 
+const char* to_string(ErrorOrigin origin) {
+  return origin == ErrorOrigin::Installation ? "installation" : "caller";
+}
+
 }  // namespace caliper

@@ -52,13 +52,13 @@ void register_serve(CLI::App& app) {
     try {
       server::require_known_model(opts->api, opts->api.default_model);
     } catch (const Error& e) {
-      throw Error(e.kind(), std::string("--model: ") + e.what(), "--model");
+      throw e.restated(std::string("--model: ") + e.what(), "--model");
     }
     if (!opts->api.capture_profiles_file.empty()) {
       try {
         server::check_capture_profiles_file(opts->api.capture_profiles_file);
       } catch (const Error& e) {
-        throw Error(e.kind(), std::string("--capture-profiles: ") + e.what(), "--capture-profiles");
+        throw e.restated(std::string("--capture-profiles: ") + e.what(), "--capture-profiles");
       }
     }
     // The sessions database is checked now, so a corrupt or foreign file stops the start-up

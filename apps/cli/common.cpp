@@ -20,12 +20,13 @@ struct SuspectValues : Error {
 
 int exit_code_for(const Error& e) {
   if (dynamic_cast<const SuspectValues*>(&e)) return kSuspectValues;
+  if (e.from_installation()) return kCannotServe;
   switch (e.kind()) {
     case ErrorKind::InvalidArgument:
     case ErrorKind::OutOfRange: return kBadValue;
     case ErrorKind::Io:
     case ErrorKind::Format: return kBadFile;
-    case ErrorKind::Unsupported: return kUnsupported;
+    case ErrorKind::Unsupported: return kCannotServe;
   }
   return kInternal;
 }

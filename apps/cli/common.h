@@ -18,7 +18,9 @@ enum ExitCode : int {
   kUsage = 2,          // bad options or arguments
   kBadValue = 3,       // NaN, negative, out-of-range or otherwise invalid value
   kBadFile = 4,        // unreadable, unwritable, malformed or truncated file
-  kUnsupported = 5,    // valid request the model cannot serve (e.g. measurement it lacks)
+  // Not the caller's input at fault: a valid request the model cannot serve (e.g. a measurement
+  // it lacks), or a file of the installation itself (a model found by name) is broken.
+  kCannotServe = 5,
   kSuspectValues = 6,  // values that look swapped or in the wrong unit (--force uses them as given)
 };
 int exit_code_for(const Error& e);

@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : caliper::cli::kUsage;
   } catch (const caliper::Error& e) {
     std::cerr << "caliper: " << e.what() << "\n";
+    if (e.from_installation())
+      std::cerr << "caliper: this file belongs to Caliper's installation, not to your input: rebuild or reinstall it "
+                   "(docs/cli.md, exit code 5)\n";
     return caliper::cli::exit_code_for(e);
   } catch (const std::exception& e) {
     std::cerr << "caliper: internal error: " << e.what() << "\n";

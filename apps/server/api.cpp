@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -227,17 +228,15 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
 // Measurement sets (import/export, JSON and CSV; docs/api.md "Measurement sets").
 
 // The library's reader (parse_measurement_set) is the only one: the CLI, capture and this API
-// read a set the same way. The set is the client's upload, so a malformed one is the client's
-// 400, not a broken installation file's 500; errors about the set as a whole name "measurements"
-// in the library, here the request "body".
+// read a set the same way. The set is the client's upload (the library's default origin), so a
+// malformed one is a 400; errors about the set as a whole name "measurements" in the library,
+// here the request "body".
 MeasurementSetFile read_set_body(const std::string& body) {
   try {
     return parse_measurement_set(body);
   } catch (const Error& e) {
-    const std::string field = e.field() == "measurements" ? "body" : e.field();
-    if (e.kind() == ErrorKind::Format) bad(e.what(), field);
-    if (field != e.field()) throw Error(e.kind(), e.what(), field);
-    throw;
+    if (e.field() != "measurements") throw;
+    throw e.restated(e.what(), "body");
   }
 }
 
@@ -343,14 +342,17 @@ struct Api::Impl {
       e = slot;
     }
     // Loaded once per (model, sex); a failed load throws and the next request tries again.
+    // The model file and the maps inside it are the server's own: their errors are 500s.
     std::call_once(e->once, [&] {
       const fs::path family_file = fs::path(dir()) / (model + "-" + sex_text + ".npz");
       const fs::path single_file = fs::path(dir()) / (model + ".npz");
       const std::string path = fs::exists(family_file) ? family_file.string() : single_file.string();
-      auto m = std::make_shared<const BodyModel>(load_model(path, sex));
-      e->builder = std::make_unique<AvatarBuilder>(m);
-      e->topology = topology_json(*m, model, sex_text);
-      e->model = std::move(m);
+      installation_input([&] {
+        auto m = std::make_shared<const BodyModel>(load_model(path, sex));
+        e->builder = std::make_unique<AvatarBuilder>(m);
+        e->topology = topology_json(*m, model, sex_text);
+        e->model = std::move(m);
+      });
     });
     return e;
   }
@@ -561,12 +563,20 @@ struct Api::Impl {
 
 ApiResponse error_response_for_library_error(const Error& e, const std::string& format_kind,
                                              const std::string& io_kind) {
+  if (e.from_installation()) {
+    // The server's own file: not the client's fault, and the details (paths, file names, array
+    // names) are for the operator, who finds them on standard error, not for the client.
+    std::cerr << "caliper serve: error in the server's own files: " << e.what() << "\n";
+    const std::string& kind = e.kind() == ErrorKind::Io ? io_kind : format_kind;
+    return error_response(500, "the server cannot use one of its own files (" + kind +
+                                   "); the request was not at fault; the server's log has the details", {}, kind);
+  }
   switch (e.kind()) {
     case ErrorKind::InvalidArgument: return error_response(400, e.what(), e.field(), "invalid_argument");
     case ErrorKind::OutOfRange: return error_response(400, e.what(), e.field(), "out_of_range");
     case ErrorKind::Unsupported: return error_response(422, e.what(), e.field(), "unsupported");
-    case ErrorKind::Format: return error_response(500, e.what(), e.field(), format_kind);
-    case ErrorKind::Io: return error_response(500, e.what(), e.field(), io_kind);
+    case ErrorKind::Format:  // a document the client sent (e.g. a measurement set)
+    case ErrorKind::Io: return error_response(400, e.what(), e.field(), "invalid_argument");
   }
   return error_response(500, e.what(), e.field(), "internal");
 }

@@ -35,9 +35,11 @@ struct ApiResponse {
 ApiResponse error_response(int status, const std::string& message, const std::string& field = {},
                            const std::string& kind = "bad_request");
 
-// The response for a library error (caliper::Error): bad values are the client's (400), a valid
-// request the server cannot serve is 422, unreadable files are the server's (500, with the
-// given kinds, e.g. "model_format" / "model_io" or "database_format" / "database_io").
+// The response for a library error (caliper::Error), by its origin: the client's input (values,
+// an uploaded document) is a 400 naming the field, a valid request the server cannot serve is
+// 422; an error in the server's own files (ErrorOrigin::Installation) is a 500 of the given kind
+// (e.g. "model_format" / "model_io" or "database_format" / "database_io") whose message names no
+// file or path (the details go to standard error, the server's log).
 ApiResponse error_response_for_library_error(const Error& error, const std::string& format_kind,
                                              const std::string& io_kind);
 

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -16,7 +17,7 @@
 #include "caliper/capture/measurement_set.h"
 #include "caliper/capture/service.h"
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 #include "json_body.h"
 
 namespace caliper::server {
@@ -259,7 +260,10 @@ struct CaptureApi::Impl {
       try {
         service_ptr = std::make_unique<CaptureService>(std::move(o));
       } catch (const Error& e) {
-        refuse(503, std::string("capture sessions are unavailable: ") + e.what(), "database", "unavailable");
+        // The database is the server's own file: its path is for the operator's log, not the client.
+        std::cerr << "caliper serve: capture sessions are unavailable: " << e.what() << "\n";
+        refuse(503, "capture sessions are unavailable: the server cannot open its sessions database; the server's log has the details",
+               "database", "unavailable");
       }
     }
     return *service_ptr;
@@ -499,7 +503,11 @@ ApiResponse CaptureApi::handle(const ApiRequest& request) const {
   } catch (const Refusal& r) {
     return error_response(r.status, r.message, r.field, r.kind);
   } catch (const Error& e) {
-    return error_response_for_library_error(e, "database_format", "database_io");
+    // Capture requests carry values, never documents: the only files behind a Format or Io error
+    // here are the server's own sessions database and controller profiles.
+    const bool own_file = e.kind() == ErrorKind::Format || e.kind() == ErrorKind::Io;
+    return error_response_for_library_error(own_file ? e.from(ErrorOrigin::Installation) : e, "database_format",
+                                            "database_io");
   } catch (const std::exception& e) {
     return error_response(500, std::string("internal error: ") + e.what(), {}, "internal");
   }

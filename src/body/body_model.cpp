@@ -8,24 +8,6 @@
 
 namespace caliper {
 
-const char* to_string(Sex sex) {
-  switch (sex) {
-    case Sex::Female: return "female";
-    case Sex::Male: return "male";
-    case Sex::Neutral: return "neutral";
-  }
-  return "neutral";
-}
-
-Sex parse_sex(const std::string& text) {
-  std::string t;
-  for (char c : text) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (t == "female" || t == "f" || t == "woman") return Sex::Female;
-  if (t == "male" || t == "m" || t == "man") return Sex::Male;
-  if (t == "neutral" || t == "n") return Sex::Neutral;
-  throw Error(ErrorKind::InvalidArgument, "sex must be female, male or neutral (got '" + text + "')", "sex");
-}
-
 WeightFromVolume WeightFromVolume::paper(Sex sex) {
   // Paper §3.4.2, fitted on CAESAR (kg, m³).
   switch (sex) {
@@ -201,6 +183,11 @@ Eigen::MatrixX3d BodyModel::joints(const Vertices& rest) const {
   if (rest.rows() != data_.template_vertices.rows())
     throw Error(ErrorKind::InvalidArgument, "vertex count does not match the model", "vertices");
   return data_.joint_regressor * rest;
+}
+
+BodyModel BodyModel::supplied_by(ErrorOrigin origin) && {
+  data_.supplied_by = origin;
+  return std::move(*this);
 }
 
 BodyModel BodyModel::truncated(int k) const {

@@ -10,7 +10,8 @@
 #include <vector>
 
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "gate.h"
+#include "caliper/vocabulary/catalogue.h"
 
 namespace caliper {
 
@@ -217,13 +218,20 @@ std::string write_measurement_set_csv(const MeasurementSetFile& set) {
   return out;
 }
 
-MeasurementSetFile parse_measurement_set(const std::string& text) {
+namespace {
+// The reader itself; the public function below is its gate.
+MeasurementSetFile parse_either_format(const std::string& text) {
   const size_t a = text.find_first_not_of(" \t\r\n");
   if (a == std::string::npos) throw Error(ErrorKind::Format, "the measurement set is empty", "measurements");
   // JSON if it looks like JSON (an array, too, gets the JSON reader's clear refusal), else CSV.
   MeasurementSetFile set = text[a] == '{' || text[a] == '[' ? parse_json(text) : parse_csv(text);
   if (set.edge.empty()) throw Error(ErrorKind::Format, "the measurement set has no measurements", "measurements");
   return set;
+}
+}  // namespace
+
+MeasurementSetFile parse_measurement_set(const std::string& text) {
+  return gate("measurement set", "measurements", [&] { return parse_either_format(text); });
 }
 
 MeasurementSetFile measurement_set_of(const capture::CaptureProtocol& session) {

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
+#include "gate.h"
 
 namespace caliper::capture {
 
@@ -50,6 +51,10 @@ std::string ProfileRegistry::first_known(const std::vector<std::string>& ids) co
 }
 
 void ProfileRegistry::merge_json(const std::string& text) {
+  gate("controller profiles", "profiles", [&] { read_json(text); });
+}
+
+void ProfileRegistry::read_json(const std::string& text) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);

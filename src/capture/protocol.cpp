@@ -9,7 +9,7 @@
 #include <cstdio>
 
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 
 namespace caliper::capture {
 

@@ -11,7 +11,8 @@
 
 #include "caliper/errors.h"
 #include "caliper/evaluation/linear_limit.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
+#include "caliper/vocabulary/noise.h"
 #include "caliper/measure/measure.h"
 #include "caliper/random.h"
 #include "parallel.h"
@@ -35,12 +36,8 @@ const char* to_string(MeasurementNoise noise) {
 }
 
 std::map<std::string, double> table2_mae(MeasurementNoise noise) {
-  // Paper Table 2, MAE in cm, self / other.
-  if (noise == MeasurementNoise::Self)
-    return {{"stature", 0.0153}, {"span", 0.0201}, {"arm_length", 0.0129}, {"crotch_height", 0.0206}, {"hip_breadth", 0.0077}};
-  if (noise == MeasurementNoise::Other)
-    return {{"stature", 0.0147}, {"span", 0.0172}, {"arm_length", 0.0076}, {"crotch_height", 0.0246}, {"hip_breadth", 0.0065}};
-  return {};
+  if (noise == MeasurementNoise::None) return {};
+  return paper_table2_mae(noise == MeasurementNoise::Self ? MeasuredBy::Self : MeasuredBy::Other);
 }
 
 std::string map_noise_for(MeasurementNoise noise) {
@@ -50,16 +47,6 @@ std::string map_noise_for(MeasurementNoise noise) {
     case MeasurementNoise::Other: return "other";
   }
   return "exact";
-}
-
-const std::vector<std::pair<std::string, std::string>>& held_out_columns() {
-  static const std::vector<std::pair<std::string, std::string>> cols = {
-      {"chestcircumference", "chest_circumference"}, {"waistcircumference", "waist_circumference"},
-      {"buttockcircumference", "buttock_circumference"}, {"thighcircumference", "thigh_circumference"},
-      {"calfcircumference", "calf_circumference"}, {"biacromialbreadth", "biacromial_breadth"},
-      {"chestbreadth", "chest_breadth"}, {"chestdepth", "chest_depth"}, {"waistbreadth", "waist_breadth"},
-      {"waistdepth", "waist_depth"}, {"acromialheight", "acromial_height"}, {"waistheightomphalion", "waist_height"}};
-  return cols;
 }
 
 namespace {
@@ -109,7 +96,7 @@ void evaluate_one(const AnsurSubject& s, const AvatarBuilder& builder, const Ver
   const std::map<std::string, double> truth = virtual_caliper_inputs(s);
   std::map<std::string, double> noisy = truth;
   NormalGenerator rng(subject_seed);
-  for (const auto& [name, mae] : table2_mae(opt.noise)) noisy[name] += rng.normal() * mae * std::sqrt(M_PI / 2);
+  for (const auto& [name, mae] : table2_mae(opt.noise)) noisy[name] += rng.normal() * gaussian_sd_of_mae(mae);
   const RealToVirtual& maps = builder.model_maps();
   const BodyModel& model = builder.model();
 
@@ -452,7 +439,7 @@ std::map<std::string, SurfaceStats> synthetic_surface_study(const AvatarBuilder&
     std::map<std::string, double> m;
     for (const auto& name : inputs) m[name] = measure(model, *model.find_measurement(name), truth);
     // The synthetic person's "real" measurements are the virtual ones: no real → virtual map.
-    for (const auto& [name, mae] : table2_mae(noise)) m[name] += rng.normal() * mae * std::sqrt(M_PI / 2);
+    for (const auto& [name, mae] : table2_mae(noise)) m[name] += rng.normal() * gaussian_sd_of_mae(mae);
     for (const auto& r : regressors) {
       AvatarRequest req;
       req.measurements = m;

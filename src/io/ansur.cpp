@@ -7,7 +7,8 @@
 #include <sstream>
 
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "gate.h"
+#include "caliper/vocabulary/catalogue.h"
 
 namespace caliper {
 
@@ -33,18 +34,14 @@ std::vector<std::string> split(const std::string& line) {
   }
   return out;
 }
-// The six Virtual Caliper inputs and the ANSUR columns whose sum each one is.
-const std::pair<const char*, std::vector<const char*>> kInputColumns[] = {
-    {"stature", {"stature"}},           {"weight", {"weightkg"}},        {"span", {"span"}},
-    {"crotch_height", {"crotchheight"}}, {"hip_breadth", {"hipbreadth"}}, {"arm_length", {"acromionradialelength", "radialestylionlength"}}};
 
 // The Virtual Caliper inputs a row provides, each within the catalogue's accepted range: a file
 // in centimetres instead of ANSUR's millimetres would otherwise give 17 cm avatars without a word.
 void check_inputs(const AnsurSubject& s, const std::string& where) {
-  for (const auto& [name, columns] : kInputColumns) {
+  for (const auto& [name, columns] : virtual_caliper_input_columns()) {
     double si = 0;
     bool present = true;
-    for (const char* c : columns) {
+    for (const std::string& c : columns) {
       auto it = s.values.find(c);
       if (it == s.values.end()) present = false;
       else si += it->second;
@@ -62,14 +59,9 @@ void check_inputs(const AnsurSubject& s, const std::string& where) {
 
 }  // namespace
 
-double ansur_to_si(const std::string& column, double raw) {
-  const std::string c = lower(column);
-  if (c == "weightkg") return raw / 10.0;
-  if (c == "interpupillarybreadth") return raw / 10000.0;
-  return raw / 1000.0;
-}
-
-std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::string& source) {
+namespace {
+// The reader itself; the public function below is its gate.
+std::vector<AnsurSubject> parse_rows(const std::string& text, const std::string& source) {
   std::istringstream in(text);
   std::string line;
   std::vector<std::string> header;
@@ -125,6 +117,11 @@ std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::st
   if (header.empty()) throw Error(ErrorKind::Format, source + ": empty file", "header");
   return subjects;
 }
+}  // namespace
+
+std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::string& source) {
+  return gate(source, "header", [&] { return parse_rows(text, source); });
+}
 
 std::vector<AnsurSubject> read_ansur_csv(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
@@ -136,8 +133,8 @@ std::vector<AnsurSubject> read_ansur_csv(const std::string& path) {
 
 std::map<std::string, double> virtual_caliper_inputs(const AnsurSubject& s) {
   std::map<std::string, double> out;
-  for (const auto& [name, columns] : kInputColumns)
-    for (const char* c : columns) {
+  for (const auto& [name, columns] : virtual_caliper_input_columns())
+    for (const std::string& c : columns) {
       auto it = s.values.find(c);
       if (it == s.values.end()) throw Error(ErrorKind::Format, std::string("subject ") + s.id + " has no '" + c + "'", c);
       out[name] += it->second;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
+#include "gate.h"
 #include "caliper/io/npz.h"
 
 #ifndef CALIPER_MODELS_DIR
@@ -516,14 +517,28 @@ void save_model(const BodyModel& model, const std::string& path) {
   npz::write_npz(path, out);
 }
 
-BodyModel load_native_model(const std::string& path) {
+namespace {
+// The reader itself; the public function below is its gate.
+BodyModel read_native_model(const std::string& path) {
   const Arrays f(path, npz::read_npz(path));
   if (!f.has("format")) throw Error(ErrorKind::Format, "'" + path + "' is not a Caliper model: no array 'format'", "format");
   return native_from_arrays(f);
 }
+}  // namespace
+
+BodyModel load_native_model(const std::string& path) {
+  return gate("'" + path + "'", "model", [&] { return read_native_model(path); });
+}
+
+namespace {
+// The reader itself; the public function below is its gate.
+BodyModel read_smpl_model(const std::string& path, const SmplLoadOptions& options) {
+  return smpl_from_arrays(Arrays(path, npz::read_npz(path)), options);
+}
+}  // namespace
 
 BodyModel load_smpl_model(const std::string& path, const SmplLoadOptions& options) {
-  return smpl_from_arrays(Arrays(path, npz::read_npz(path)), options);
+  return gate("'" + path + "'", "model", [&] { return read_smpl_model(path, options); });
 }
 
 std::string models_dir() {
@@ -532,18 +547,23 @@ std::string models_dir() {
   return CALIPER_MODELS_DIR;
 }
 
+namespace {
+// A native or SMPL model, told apart by the arrays inside.
+BodyModel read_any_model(const std::string& path, Sex sex) {
+  const Arrays f(path, npz::read_npz(path));
+  if (f.has("format")) return native_from_arrays(f);
+  if (f.has("v_template")) {
+    SmplLoadOptions options;
+    options.sex = sex;
+    return smpl_from_arrays(f, options);
+  }
+  throw Error(ErrorKind::Format, model_kind_error(path), "format");
+}
+}  // namespace
+
 BodyModel load_model(const std::string& name_or_path, Sex sex) {
   std::error_code ec;
-  auto load_path = [&](const std::string& path) {
-    const Arrays f(path, npz::read_npz(path));
-    if (f.has("format")) return native_from_arrays(f);
-    if (f.has("v_template")) {
-      SmplLoadOptions options;
-      options.sex = sex;
-      return smpl_from_arrays(f, options);
-    }
-    throw Error(ErrorKind::Format, model_kind_error(path), "format");
-  };
+  auto load_path = [&](const std::string& path) { return gate("'" + path + "'", "model", [&] { return read_any_model(path, sex); }); };
   if (fs::is_regular_file(name_or_path, ec)) return load_path(name_or_path);
 
   const fs::path dir = models_dir();
@@ -551,9 +571,10 @@ BodyModel load_model(const std::string& name_or_path, Sex sex) {
                                !name_or_path.empty() && name_or_path != "." && name_or_path != "..";
   if (looks_like_name) {
     // The sex-specific variant first ("mannequin" + female → mannequin-female.npz), then the
-    // family file itself.
+    // family file itself. A model found by name is the installation's file, not the caller's.
     for (const fs::path& p : {dir / (name_or_path + "-" + to_string(sex) + ".npz"), dir / (name_or_path + ".npz")})
-      if (fs::is_regular_file(p, ec)) return load_path(p.string());
+      if (fs::is_regular_file(p, ec))
+        return installation_input([&] { return load_path(p.string()).supplied_by(ErrorOrigin::Installation); });
   }
   std::vector<std::string> available;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))

@@ -15,6 +15,7 @@
 #include <memory>
 
 #include "caliper/errors.h"
+#include "gate.h"
 #include "caliper/utf8.h"
 
 namespace caliper::npz {
@@ -563,7 +564,9 @@ Array read_entry(zip_t* z, const zip_stat_t& st, const std::string& name, const 
 
 }  // namespace
 
-std::map<std::string, Array> read_npz(const std::string& path, const ReadLimits& limits) {
+namespace {
+// The reader itself; read_npz below is its gate.
+std::map<std::string, Array> read_archive(const std::string& path, const ReadLimits& limits) {
   int err = 0;
   std::unique_ptr<zip_t, ZipCloser> z(zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &err));
   if (!z) {
@@ -594,6 +597,11 @@ std::map<std::string, Array> read_npz(const std::string& path, const ReadLimits&
     arrays[name] = read_entry(z.get(), st, name, limits, budget);
   }
   return arrays;
+}
+}  // namespace
+
+std::map<std::string, Array> read_npz(const std::string& path, const ReadLimits& limits) {
+  return gate("'" + path + "'", "npz", [&] { return read_archive(path, limits); });
 }
 
 void write_npz(const std::string& path, const std::map<std::string, std::string>& npy_entries) {

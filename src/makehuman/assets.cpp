@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "caliper/errors.h"
+#include "gate.h"
 #include "json_read.h"
 
 namespace caliper::makehuman {
@@ -124,7 +125,9 @@ void for_each_line(const std::string& text, Visit&& visit) {
 
 }  // namespace
 
-Target read_target(const std::string& path, int vertex_count) {
+namespace {
+// The reader itself; the public function below is its gate.
+Target read_target_lines(const std::string& path, int vertex_count) {
   Target t;
   t.path = path;
   t.name = stem_of_target(path);
@@ -150,8 +153,15 @@ Target read_target(const std::string& path, int vertex_count) {
   });
   return t;
 }
+}  // namespace
 
-BaseMesh read_base_mesh(const std::string& dir) {
+Target read_target(const std::string& path, int vertex_count) {
+  return gate("MakeHuman target '" + path + "'", "target", [&] { return read_target_lines(path, vertex_count); });
+}
+
+namespace {
+// The reader itself; the public function below is its gate.
+BaseMesh read_base_mesh_files(const std::string& dir) {
   const fs::path root(dir);
   require_dir(root, "an assets folder");
   const fs::path obj = root / "3dobjs" / "base.obj";
@@ -291,6 +301,11 @@ BaseMesh read_base_mesh(const std::string& dir) {
       throw Error(ErrorKind::Format, mirror_path.string() + ": body vertex " + std::to_string(v) + " has no mirror", "hm08.mirror");
   return m;
 }
+}  // namespace
+
+BaseMesh read_base_mesh(const std::string& dir) {
+  return gate("MakeHuman base mesh in '" + dir + "'", "base_mesh", [&] { return read_base_mesh_files(dir); });
+}
 
 int Rig::bone_index(const std::string& name) const {
   for (size_t i = 0; i < bones.size(); ++i)
@@ -385,15 +400,24 @@ void read_bone_weights(const fs::path& path, int n, Rig& r) {
 
 }  // namespace
 
-Rig read_rig(const std::string& dir, const BaseMesh& mesh, const std::string& name) {
+namespace {
+// The reader itself; the public function below is its gate.
+Rig read_rig_files(const std::string& dir, const BaseMesh& mesh, const std::string& name) {
   const fs::path folder = fs::path(dir) / "rigs" / "standard";
   Rig r;
   read_bones(folder / ("rig." + name + ".json"), mesh, r);
   read_bone_weights(folder / ("weights." + name + ".json"), static_cast<int>(mesh.vertices.rows()), r);
   return r;
 }
+}  // namespace
 
-Assets load_assets(const std::string& dir, const LoadOptions& options) {
+Rig read_rig(const std::string& dir, const BaseMesh& mesh, const std::string& name) {
+  return gate("MakeHuman rig '" + name + "'", "rig", [&] { return read_rig_files(dir, mesh, name); });
+}
+
+namespace {
+// The reader itself; the public function below is its gate.
+Assets load_assets_folder(const std::string& dir, const LoadOptions& options) {
   const fs::path root(dir);
   require_dir(root, "a MakeHuman assets folder");
   for (const char* sub : {"3dobjs", "mesh_metadata", "targets/macrodetails", "rigs/standard"})
@@ -465,6 +489,11 @@ Assets load_assets(const std::string& dir, const LoadOptions& options) {
   }
   if (a.modifier_targets.empty()) throw Error(ErrorKind::Io, "no measure-* targets under '" + (root / "targets").string() + "'", "--assets");
   return a;
+}
+}  // namespace
+
+Assets load_assets(const std::string& dir, const LoadOptions& options) {
+  return gate("MakeHuman assets in '" + dir + "'", "assets", [&] { return load_assets_folder(dir, options); });
 }
 
 }  // namespace caliper::makehuman

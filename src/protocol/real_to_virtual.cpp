@@ -8,7 +8,8 @@
 #include <sstream>
 
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "gate.h"
+#include "caliper/vocabulary/catalogue.h"
 #include "json_read.h"
 
 namespace caliper {
@@ -47,6 +48,10 @@ void RealToVirtual::apply(std::map<std::string, double>& values) const {
 }
 
 RealToVirtual RealToVirtual::from_json(const std::string& text) {
+  return gate("real-to-virtual map", "maps", [&] { return read_json(text); });
+}
+
+RealToVirtual RealToVirtual::read_json(const std::string& text) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
@@ -89,6 +94,10 @@ void RealToVirtual::save(const std::string& path) const {
 }
 
 RealToVirtual RealToVirtual::fit_csv(const std::string& path) {
+  return gate("'" + path + "'", "pairs", [&] { return read_pairs_csv(path); });
+}
+
+RealToVirtual RealToVirtual::read_pairs_csv(const std::string& path) {
   std::istringstream in(read_file(path));
   std::string line;
   std::map<std::string, std::vector<std::pair<double, double>>> pairs;

@@ -12,7 +12,8 @@
 #include <sstream>
 
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
+#include "caliper/vocabulary/noise.h"
 #include "caliper/measure/measure.h"
 
 namespace caliper {
@@ -36,14 +37,10 @@ const char* to_string(NoiseSetting setting) {
 }
 
 std::map<std::string, double> table2_sd(NoiseSetting setting) {
-  // Paper Table 2, MAE in metres; a zero-mean Gaussian's MAE is SD·√(2/π), so SD = MAE·√(π/2).
-  std::map<std::string, double> mae;
-  if (setting == NoiseSetting::Self)
-    mae = {{"stature", 0.0153}, {"span", 0.0201}, {"arm_length", 0.0129}, {"crotch_height", 0.0206}, {"hip_breadth", 0.0077}};
-  else if (setting == NoiseSetting::Other)
-    mae = {{"stature", 0.0147}, {"span", 0.0172}, {"arm_length", 0.0076}, {"crotch_height", 0.0246}, {"hip_breadth", 0.0065}};
-  for (auto& [name, v] : mae) v *= std::sqrt(M_PI / 2);
-  return mae;
+  if (setting == NoiseSetting::Exact) return {};
+  std::map<std::string, double> sd = paper_table2_mae(setting == NoiseSetting::Self ? MeasuredBy::Self : MeasuredBy::Other);
+  for (auto& [name, v] : sd) v = gaussian_sd_of_mae(v);
+  return sd;
 }
 
 double default_noise_sd(const BodyModel& model, const std::string& measurement, NoiseSetting setting) {

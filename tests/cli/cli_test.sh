@@ -90,6 +90,60 @@ else
   echo "note: python3 not found, the crafted-model check was skipped"
 fi
 
+# Whose input failed (issue 15): the same broken file is the caller's (exit 4) when given as a
+# path and the installation's (exit 5) when found by name in the models folder; a value is the
+# caller's (exit 3). One caller case per gate, and an installation case where the installation
+# has such a file (models, the maps inside them).
+MODELS="$TMP/installed-models"
+mkdir -p "$MODELS"
+printf 'this is not a zip' > "$MODELS/broken-female.npz"
+expect 5 "a broken model in the models folder is the installation's" \
+  env CALIPER_MODELS_DIR="$MODELS" "$CALIPER" avatar --model broken --height 170 --weight 60 -o "$TMP/a.glb"
+says "belongs to Caliper's installation" "and says so"
+expect 5 "model info of it, too" env CALIPER_MODELS_DIR="$MODELS" "$CALIPER" model info broken
+expect 4 "the same file given as a path is the caller's" \
+  "$CALIPER" avatar --model "$MODELS/broken-female.npz" --height 170 --weight 60 -o "$TMP/a.glb"
+if command -v python3 >/dev/null; then
+  # The built-in model with its real-to-virtual maps (metadata) broken: read when the avatar is built.
+  python3 - "$SRC/models/mannequin-female.npz" "$MODELS/badmaps-female.npz" <<'PY'
+import json, re, struct, sys, zipfile
+def npy_unicode(text):
+    header = ("{'descr': '<U%d', 'fortran_order': False, 'shape': (), }" % max(1, len(text))).encode()
+    header += b" " * ((64 - (10 + len(header) + 1) % 64) % 64) + b"\n"
+    return b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header + text.encode("utf-32-le")
+with zipfile.ZipFile(sys.argv[1]) as src, zipfile.ZipFile(sys.argv[2], "w", zipfile.ZIP_DEFLATED) as out:
+    for name in src.namelist():
+        data = src.read(name)
+        if name == "metadata.npy":
+            header_len = struct.unpack("<H", data[8:10])[0]
+            meta = json.loads(data[10 + header_len:].decode("utf-32-le").rstrip("\0"))
+            meta["real_to_virtual"] = '{"format": "caliper-real-to-virtual", "maps": {"stature": {"slope": 1, "pairs": "20"}}}'
+            data = npy_unicode(json.dumps(meta))
+        out.writestr(name, data)
+PY
+  expect 5 "a model in the models folder whose maps are broken" \
+    env CALIPER_MODELS_DIR="$MODELS" "$CALIPER" avatar --model badmaps --height 170 --weight 60 -o "$TMP/a.glb"
+  says "pairs" "names the map's field"
+  expect 4 "the same model given as a path" \
+    "$CALIPER" avatar --model "$MODELS/badmaps-female.npz" --height 170 --weight 60 -o "$TMP/a.glb"
+fi
+printf '{"measurements": {"stature": "tall"}}' > "$TMP/bad-set.json"
+expect 4 "a malformed measurement set" "$CALIPER" avatar --measurements "$TMP/bad-set.json" -o "$TMP/a.glb"
+says "stature" "names the measurement"
+printf '{"measurements": {"stature": 1700, "weight": 60}}' > "$TMP/absurd-set.json"
+expect 3 "a measurement set with an absurd value" "$CALIPER" avatar --measurements "$TMP/absurd-set.json" --force -o "$TMP/a.glb"
+printf 'subjectid,Gender,stature,weightkg\n1,Female,1650\n' > "$TMP/ragged.csv"
+expect 4 "a ragged ANSUR CSV" "$CALIPER" eval --subjects "$TMP/ragged.csv" -q
+says "ragged.csv" "names the file"
+printf 'subjectid,Gender,stature,weightkg\n1,Female,165,60\n' > "$TMP/centimetres.csv"
+expect 3 "an ANSUR CSV in centimetres" "$CALIPER" eval --subjects "$TMP/centimetres.csv" -q
+says "stature" "names the column"
+printf 'subjectid,Gender,stature,weightkg\n1,Female,1650,600\n' > "$TMP/one.csv"
+mkdir -p "$TMP/not-makehuman"
+expect 4 "a folder that is not MakeHuman assets" "$CALIPER" model build makehuman --assets "$TMP/not-makehuman" \
+  --ansur "$TMP/one.csv" -o "$TMP/mh.npz"
+says "3dobjs" "names what is missing"
+
 # Unsupported: a regressor that needs a value not given.
 expect 5 "R5 without hip width" "$CALIPER" avatar --regressor R5 --height 170 --weight 60 --arm-span 172 --inseam 80 -o "$TMP/a.glb"
 says "hip_breadth" "missing input is named"

@@ -10,7 +10,7 @@
 #include "caliper/capture/profiles.h"
 #include "caliper/capture/protocol.h"
 #include "caliper/errors.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 #include "test_capture_script.h"
 
 namespace caliper::capture {

@@ -10,7 +10,7 @@
 
 #include "caliper/avatar.h"
 #include "caliper/errors.h"
-#include "caliper/export/report.h"
+#include "caliper/avatar_report.h"
 #include "caliper/io/model_files.h"
 #include "caliper/measure/measure.h"
 #include "caliper/random.h"

@@ -14,7 +14,7 @@
 #include "temp_files.h"
 #include "caliper/io/model_files.h"
 #include "caliper/io/npz.h"
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 
 using namespace caliper;
 using test::TempDir;

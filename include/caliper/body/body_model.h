@@ -12,13 +12,11 @@
 #include <vector>
 
 #include "caliper/body/mesh.h"
-#include "caliper/measure/definitions.h"
+#include "caliper/errors.h"
+#include "caliper/vocabulary/definitions.h"
+#include "caliper/vocabulary/sex.h"
 
 namespace caliper {
-
-enum class Sex { Female, Male, Neutral };
-const char* to_string(Sex sex);
-Sex parse_sex(const std::string& text);  // "female"|"male"|"neutral" (also f/m/n); throws Error
 
 // weight_kg = a · volume_m3 + b  (paper §3.4.2). The paper's fit on CAESAR is the default.
 struct WeightFromVolume {
@@ -58,6 +56,9 @@ struct BodyModelData {
   // vertex on a seam has several UVs, so UV corners index their own array. Both empty = none.
   UvCoordinates uv_coordinates;  // U×2 in [0, 1], OBJ convention (v up; origin bottom-left)
   Faces uv_faces;                // F×3 indices into uv_coordinates, same corner order as `faces`
+  // Whose file the model came from (load_model says; not stored in the file): what is read from
+  // its contents later, such as its real → virtual maps, fails as that file's error.
+  ErrorOrigin supplied_by = ErrorOrigin::Caller;
 };
 
 class BodyModel {
@@ -85,6 +86,9 @@ class BodyModel {
   void rest_vertices(const Eigen::VectorXd& beta, Vertices& out) const;  // no allocation when sized
   // Joints J(β), J×3, from rest vertices.
   Eigen::MatrixX3d joints(const Vertices& rest) const;
+
+  // This model, marked as supplied by `origin` (BodyModelData::supplied_by); no copy, no re-check.
+  BodyModel supplied_by(ErrorOrigin origin) &&;
 
   // A copy of this model keeping only the first k shape directions (1 ≤ k ≤ K).
   BodyModel truncated(int k) const;

@@ -12,7 +12,7 @@
 #include <optional>
 #include <string>
 
-#include "caliper/body/body_model.h"
+#include "caliper/vocabulary/sex.h"
 
 namespace caliper {
 

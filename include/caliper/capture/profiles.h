@@ -36,6 +36,7 @@ class ProfileRegistry {
   void add(ControllerProfile profile);
 
  private:
+  void read_json(const std::string& text);  // the reader behind merge_json, which is its gate
   std::map<std::string, ControllerProfile> profiles_;
   std::string default_id_;
 };

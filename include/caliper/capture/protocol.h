@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "caliper/body/body_model.h"
 #include "caliper/protocol/isak.h"
+#include "caliper/vocabulary/sex.h"
 
 namespace caliper::capture {
 

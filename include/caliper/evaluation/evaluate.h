@@ -18,16 +18,14 @@ enum class MeasurementNoise { None, Self, Other };
 MeasurementNoise parse_noise(const std::string& text);  // none | self | other; throws Error
 const char* to_string(MeasurementNoise noise);
 
-// Paper Table 2: mean absolute error of Virtual Caliper measurements against an ISAK-certified
-// measurer (metres), for the five measured inputs. Weight (a bathroom scale) has no entry.
-// Simulated as zero-mean Gaussian noise with SD = MAE·√(π/2) (the MAE of a Gaussian is SD·√(2/π)).
+// Paper Table 2 (vocabulary/noise.h) for a simulated setting: mean absolute error of Virtual
+// Caliper measurements (metres) of the five measured inputs; empty for None. Simulated as
+// zero-mean Gaussian noise with SD = MAE·√(π/2) (gaussian_sd_of_mae).
 std::map<std::string, double> table2_mae(MeasurementNoise noise);
 // The map estimator's noise setting that matches simulated noise: none → exact, self, other.
 std::string map_noise_for(MeasurementNoise noise);
 
-// ANSUR II columns held out from the inputs and compared with the avatars (issue 5), with the
-// model measurement each corresponds to.
-const std::vector<std::pair<std::string, std::string>>& held_out_columns();  // (ansur column, measurement)
+// held_out_columns(): vocabulary/ansur_columns.h (through io/ansur.h).
 
 struct ErrorStats {
   double mae = 0, max = 0, bias = 0;  // SI (m or kg); bias = mean(avatar − truth)

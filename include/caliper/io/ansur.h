@@ -7,7 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "caliper/body/body_model.h"
+#include "caliper/vocabulary/ansur_columns.h"  // ansur_to_si, the input and held-out columns
+#include "caliper/vocabulary/sex.h"
 
 namespace caliper {
 
@@ -23,9 +24,6 @@ struct AnsurSubject {
 // ragged row, a non-numeric measurement or a missing Gender/stature column.
 std::vector<AnsurSubject> read_ansur_csv(const std::string& path);
 std::vector<AnsurSubject> parse_ansur_csv(const std::string& text, const std::string& source_name);
-
-// SI value of a raw ANSUR number for a column (mm → m; weightkg/10 → kg; interpupillary /10 mm).
-double ansur_to_si(const std::string& column, double raw);
 
 // The six Virtual Caliper inputs of a subject, by Caliper's canonical names, SI:
 // stature, weight, span, crotch_height, hip_breadth, arm_length (acromion–radiale + radiale–stylion).

@@ -25,6 +25,9 @@ BodyModel load_smpl_model(const std::string& path, const SmplLoadOptions& option
 // Loads by file path (native or SMPL, detected by the arrays inside) or by model name
 // ("mannequin", "mannequin-female", …) looked up in the models folder. The sex picks the
 // variant for a family name: "mannequin" + female → "mannequin-female".
+// Whose file it is decides the errors' origin (errors.h): a path is the caller's, a model found by
+// name is the installation's, so its damage is ErrorOrigin::Installation (CLI exit 5, HTTP 500),
+// also when found later in its contents (BodyModelData::supplied_by).
 BodyModel load_model(const std::string& name_or_path, Sex sex);
 
 // Landmarks and measurement definitions for SMPL's 6890-vertex topology: the JSON text of

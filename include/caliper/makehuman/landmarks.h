@@ -9,7 +9,7 @@
 
 #include "caliper/body/mesh.h"
 #include "caliper/makehuman/assets.h"
-#include "caliper/measure/definitions.h"
+#include "caliper/vocabulary/definitions.h"
 
 namespace caliper::makehuman {
 

@@ -12,7 +12,7 @@
 
 #include "caliper/body/body_model.h"
 #include "caliper/body/mesh.h"
-#include "caliper/measure/definitions.h"
+#include "caliper/vocabulary/definitions.h"
 
 namespace caliper::mannequin {
 

@@ -37,6 +37,9 @@ class RealToVirtual {
   void apply(std::map<std::string, double>& values) const;
 
  private:
+  // The readers behind from_json and fit_csv, which are their gates (src/gate.h).
+  static RealToVirtual read_json(const std::string& text);
+  static RealToVirtual read_pairs_csv(const std::string& path);
   std::map<std::string, LinearMap> maps_;
 };
 

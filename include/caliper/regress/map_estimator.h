@@ -31,8 +31,8 @@ enum class NoiseSetting { Exact, Self, Other };
 NoiseSetting parse_noise_setting(const std::string& text);  // exact | self | other; throws Error(InvalidArgument)
 const char* to_string(NoiseSetting setting);
 
-// Paper Table 2 as standard deviations (metres): MAE·√(π/2), the SD of a zero-mean Gaussian with
-// that mean absolute error. Entries: stature, span, arm_length, crotch_height, hip_breadth.
+// Paper Table 2 (vocabulary/noise.h) as standard deviations (metres): MAE·√(π/2), the SD of a
+// zero-mean Gaussian with that mean absolute error. Entries: stature, span, arm_length, crotch_height, hip_breadth.
 // Empty for Exact.
 std::map<std::string, double> table2_sd(NoiseSetting setting);
 

@@ -1,10 +1,10 @@
-#include "caliper/export/report.h"
+#include "caliper/avatar_report.h"
 
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 
 namespace caliper {
 

@@ -1,4 +1,4 @@
-#include "caliper/measure/catalogue.h"
+#include "caliper/vocabulary/catalogue.h"
 
 #include <cctype>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "caliper/measure/definitions.h"
+#include "caliper/vocabulary/definitions.h"
 
 #include "caliper/errors.h"
 
