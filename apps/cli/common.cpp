@@ -150,6 +150,13 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
       throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be in (0, 50] " + edge_unit(*info), info->name);
     noise_sd[info->name] = info->unit == Unit::Kilogram ? v : v / 100.0;
   }
+  // With nothing given the estimator would fail deep inside with an "unsupported" error; say what
+  // the command needs instead.
+  if (edge.empty() && opts.beta.empty())
+    throw Error(ErrorKind::InvalidArgument,
+                "no measurements given: give at least stature and weight (e.g. --height 165 --weight 62), a "
+                "measurement set (--measurements FILE) or shape values (--beta 0 for the mean body)",
+                "measurements");
   // Typing mistakes (swapped, wrong unit) are asked about before anything is built (issue 14).
   if (!opts.force)
     if (const auto suspects = suspect_input_mistakes(edge); !suspects.empty())

@@ -186,6 +186,10 @@ if grep -qE "[0-9]e-[0-9]" "$TMP/info.txt"; then failed=$((failed + 1)); echo "F
 expect 3 "measure with nothing to measure" "$CALIPER" measure
 says "nothing to measure" "measure without arguments says what it needs"
 says "--beta 0" "measure without arguments names the options"
+expect 3 "avatar with no measurements" "$CALIPER" avatar --sex female -o "$TMP/none.glb"
+says "--height 165 --weight 62" "avatar without measurements says what it needs"
+expect 3 "render with no measurements" "$CALIPER" render --sex male -o "$TMP/none.png"
+says "no measurements given" "render without measurements says what is missing"
 expect 0 "model creases" "$CALIPER" model creases mannequin --sex male --json "$TMP/creases.json"
 says "| arms |" "model creases reports per region"
 says "torso, arms and legs: largest angle" "model creases sums up the smooth regions"
