@@ -18,18 +18,6 @@ namespace {
 
 using test::TempDir;
 
-// Runs `f`, which must throw caliper::Error, and returns it.
-template <class F>
-Error error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no caliper::Error thrown";
-  return Error(ErrorKind::Unsupported, "none");
-}
-
 // Points load_model's models folder at `dir` for the lifetime of the object.
 struct ModelsDirOverride {
   std::string old;
@@ -44,7 +32,7 @@ struct ModelsDirOverride {
 TEST(ErrorOrigin, ErrorsAreTheCallersUnlessTheOpenerSaysOtherwise) {
   const Error plain(ErrorKind::Format, "bad", "weights");
   EXPECT_EQ(plain.origin(), ErrorOrigin::Caller);
-  const Error e = error_of([] { installation_input([]() -> int { throw Error(ErrorKind::Format, "bad", "weights"); }); });
+  const Error e = test::catch_error([] { installation_input([]() -> int { throw Error(ErrorKind::Format, "bad", "weights"); }); });
   EXPECT_TRUE(e.from_installation());
   EXPECT_EQ(e.kind(), ErrorKind::Format);
   EXPECT_EQ(e.field(), "weights");
@@ -61,13 +49,13 @@ TEST(ErrorOrigin, AModelFoundByNameIsTheInstallationsAndAPathTheCallers) {
   TempDir dir;
   test::write_file(dir / "broken-female.npz", "this is not a zip");
   ModelsDirOverride models(dir.path.string());
-  const Error by_name = error_of([] { load_model("broken", Sex::Female); });
+  const Error by_name = test::catch_error([] { load_model("broken", Sex::Female); });
   EXPECT_TRUE(by_name.from_installation()) << by_name.what();
   EXPECT_EQ(by_name.kind(), ErrorKind::Format);
-  const Error by_path = error_of([&] { load_model(dir / "broken-female.npz", Sex::Female); });
+  const Error by_path = test::catch_error([&] { load_model(dir / "broken-female.npz", Sex::Female); });
   EXPECT_EQ(by_path.origin(), ErrorOrigin::Caller) << by_path.what();
   // A name nothing answers to is the caller's mistake.
-  EXPECT_EQ(error_of([] { load_model("nobody", Sex::Female); }).origin(), ErrorOrigin::Caller);
+  EXPECT_EQ(test::catch_error([] { load_model("nobody", Sex::Female); }).origin(), ErrorOrigin::Caller);
   // And a good installed model is marked as the installation's.
   save_model(test::toy_model(), dir / "toy-female.npz");
   EXPECT_EQ(load_model("toy", Sex::Female).data().supplied_by, ErrorOrigin::Installation);
@@ -79,7 +67,7 @@ TEST(ErrorOrigin, BrokenMapsInsideAModelAreBlamedOnWhoeverSuppliedIt) {
   d.metadata["real_to_virtual"] = R"({"format": "caliper-real-to-virtual", "maps": {"stature": {"slope": 1, "pairs": "20"}}})";
   for (ErrorOrigin origin : {ErrorOrigin::Caller, ErrorOrigin::Installation}) {
     auto model = std::make_shared<const BodyModel>(BodyModel(BodyModelData(d)).supplied_by(origin));
-    const Error e = error_of([&] { AvatarBuilder builder(model); });
+    const Error e = test::catch_error([&] { AvatarBuilder builder(model); });
     EXPECT_EQ(e.origin(), origin) << e.what();
     EXPECT_EQ(e.kind(), ErrorKind::Format);
     EXPECT_NE(std::string(e.what()).find("pairs"), std::string::npos) << e.what();
@@ -88,15 +76,15 @@ TEST(ErrorOrigin, BrokenMapsInsideAModelAreBlamedOnWhoeverSuppliedIt) {
 
 TEST(Gate, OnlyTheLibrarysErrorsLeaveAGate) {
   // The reader's own error passes unchanged.
-  const Error own = error_of([] { gate("'f.npz'", "model", []() -> int { throw Error(ErrorKind::OutOfRange, "x", "stature"); }); });
+  const Error own = test::catch_error([] { gate("'f.npz'", "model", []() -> int { throw Error(ErrorKind::OutOfRange, "x", "stature"); }); });
   EXPECT_EQ(own.kind(), ErrorKind::OutOfRange);
   EXPECT_EQ(own.field(), "stature");
   // A bug's exception becomes a Format error naming the input.
-  const Error bug = error_of([] { gate("'f.npz'", "model", []() -> int { throw std::out_of_range("map::at"); }); });
+  const Error bug = test::catch_error([] { gate("'f.npz'", "model", []() -> int { throw std::out_of_range("map::at"); }); });
   EXPECT_EQ(bug.kind(), ErrorKind::Format);
   EXPECT_EQ(bug.field(), "model");
   EXPECT_NE(std::string(bug.what()).find("'f.npz'"), std::string::npos);
-  const Error memory = error_of([] { gate("'f.npz'", "model", []() -> int { throw std::bad_alloc(); }); });
+  const Error memory = test::catch_error([] { gate("'f.npz'", "model", []() -> int { throw std::bad_alloc(); }); });
   EXPECT_EQ(memory.kind(), ErrorKind::Format);
   EXPECT_EQ(gate("x", "y", [] { return 3; }), 3);
 }
