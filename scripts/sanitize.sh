@@ -6,24 +6,28 @@
 # The two browser tests (desktop_e2e, capture_e2e) are left out: they drive the same server code
 # through Chromium, which would only multiply their long software-rendered run time by the
 # sanitizer's slowdown; the API tests exercise those routes in-process.
-# Usage: scripts/sanitize.sh [extra ctest args]
+# The same build holds the fuzzers (fuzz/, clang's libFuzzer), and the suite replays their corpora
+# (fuzz_*_replay tests); scripts/fuzz.sh runs them.
+# Usage: scripts/sanitize.sh [--build-only | extra ctest args]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
+# clang-14 (install-deps.sh): its libFuzzer lets one instrumented library serve both this suite and
+# the fuzzers (CALIPER_FUZZ). -O1: the level clang's AddressSanitizer manual suggests for usable
+# speed, and it compiles faster than -O2 (docs/reliability.md "Sanitizers" has the times). A
+# build-asan/ from before (g++, no fuzzers) is replaced.
+if [ -f build-asan/CMakeCache.txt ] && ! grep -q '^CALIPER_FUZZ:BOOL=ON' build-asan/CMakeCache.txt; then
+  rm -rf build-asan
+fi
 if [ ! -f build-asan/CMakeCache.txt ]; then
-  cmake -S . -B build-asan "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCALIPER_SANITIZE=ON \
-    -DCALIPER_BUILD_BENCHMARKS=OFF
+  CC=clang-14 CXX=clang++-14 cmake -S . -B build-asan "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" -DCALIPER_FUZZ=ON -DCALIPER_BUILD_BENCHMARKS=OFF
 fi
 cmake --build build-asan -j "$(nproc)"
+[ "${1:-}" = "--build-only" ] && exit 0
 
-# Every finding is fatal: ASan and UBSan abort the process (so the test fails), LeakSanitizer runs
-# at exit. tests/sanitizer/lsan.supp names the only third-party leaks tolerated, with reasons.
-export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
-export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
-if [ -s tests/sanitizer/lsan.supp ]; then
-  export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
-fi
+source scripts/sanitizer-env.sh
 # The default run thins the slowest test's sample (MannequinGenerator.ReproducesAnsurSubjects,
 # ~40 bodies instead of ~750: a body costs ~2 s under the sanitizers). CALIPER_SANITIZE_FULL=1
 # restores the Release sample; that test then needs an estimated 25–30 minutes (not measured), so
