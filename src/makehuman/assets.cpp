@@ -367,7 +367,7 @@ void read_bone_weights(const fs::path& path, int n, Rig& r) {
       const int v = static_cast<int>(detail::json_integer(e[0], at, 0, n - 1));
       const double w = detail::json_number(e[1], at);
       // A fraction of the vertex (cmu_mb's are in [0.0001, 1]); 1e308 would overflow the float.
-      if (!(w >= 0 && w <= 1)) at.fail("has weight " + std::to_string(w) + " for vertex " + std::to_string(v) + ", expected [0, 1]");
+      if (!(w >= 0 && w <= 1)) at.fail("has weight " + e[1].dump() + " for vertex " + std::to_string(v) + ", expected [0, 1]");
       if (w > 0) r.weights[static_cast<size_t>(v)].push_back({b, static_cast<float>(w)});
     }
   }
