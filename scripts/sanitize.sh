@@ -30,8 +30,8 @@ cmake --build build-asan -j "$(nproc)"
 source scripts/sanitizer-env.sh
 # The default run thins the slowest test's sample (MannequinGenerator.ReproducesAnsurSubjects,
 # ~40 bodies instead of ~750: a body costs ~2 s under the sanitizers). CALIPER_SANITIZE_FULL=1
-# restores the Release sample; that test then needs an estimated 25–30 minutes (not measured), so
-# it runs on its own, outside ctest's 300 s per-test timeout.
+# restores the Release sample; that test then needs about 70 minutes at -O1 (estimated), so
+# it runs on its own, outside ctest's per-test timeout.
 exclude='^(desktop_e2e|capture_e2e)$'
 if [ "${CALIPER_SANITIZE_FULL:-0}" = "1" ]; then
   export CALIPER_SANITIZE_FULL
