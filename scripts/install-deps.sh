@@ -10,6 +10,7 @@ APT_PACKAGES=(
   libsqlite3-dev libzip-dev zlib1g-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libassimp-dev assimp-utils
+  clang libclang-rt-14-dev
   nodejs npm chromium
   python3-numpy
 )

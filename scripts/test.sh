@@ -1,14 +1,27 @@
 #!/usr/bin/env bash
 # The README's second command (and CI's): makes sure dependencies are there, builds, and runs
 # the whole test suite — unit tests, CLI tests, export validation (Khronos glTF validator,
-# Assimp), API and browser tests.
+# Assimp), API and browser tests — in the Release build, then the C++ tests again in a sanitizer
+# build (ASan + LSan + UBSan, clang, build-asan/, scripts/sanitize.sh; docs/reliability.md
+# "Sanitizers"), then every fuzzer for a short time (scripts/fuzz.sh, CALIPER_FUZZ_SECONDS each,
+# default 15). CALIPER_SKIP_SANITIZE=1 leaves the sanitizer and fuzzing parts out (local runs only:
+# CI runs them).
 # Heavy optional check: CALIPER_BLENDER=1 also installs Blender (~750 MB) and imports exported
 # avatars into it (tests/e2e/check-glb.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
+# install-deps.sh has installed every external checker: one that is missing now is a failure,
+# not a skipped test.
+export CALIPER_REQUIRE_TOOLS=1
 (cd build && ctest --output-on-failure -j "$(nproc)" --timeout 600)
+if [ "${CALIPER_SKIP_SANITIZE:-0}" != "1" ]; then
+  bash scripts/sanitize.sh
+  bash scripts/fuzz.sh --seconds "${CALIPER_FUZZ_SECONDS:-15}"
+else
+  echo "[caliper] CALIPER_SKIP_SANITIZE=1: the sanitizer build and the fuzzers were not run"
+fi
 if [ "${CALIPER_BLENDER:-0}" = "1" ]; then
   if ! command -v blender >/dev/null; then
     SUDO=""; [ "$(id -u)" = "0" ] || SUDO="sudo"

@@ -203,9 +203,11 @@ LinearLimits fit_linear_limits(const std::vector<AnsurSubject>& subjects, const 
   std::vector<std::string> methods = opt.regressors;
   if (opt.baselines) { methods.push_back("baseline:uniform_scale"); methods.push_back("baseline:R2"); }
   std::vector<std::string> columns;
-  for (const auto& [col, m] : held_out_columns())
+  for (const auto& entry : held_out_columns()) {
+    const std::string& col = entry.first;  // not a structured binding: clang 14 cannot capture one
     if (std::any_of(subjects.begin(), subjects.end(), [&](const AnsurSubject& s) { return s.values.count(col) > 0; }))
       columns.push_back(col);
+  }
   LinearLimits limits;
   if (columns.empty()) return limits;
   std::set<Sex> sexes;

@@ -381,7 +381,8 @@ void read_bone_weights(const fs::path& path, int n, Rig& r) {
       if (!e.is_array() || e.size() != 2) at.fail("has an entry that is not [vertex, weight]");
       const int v = static_cast<int>(detail::json_integer(e[0], at, 0, n - 1));
       const double w = detail::json_number(e[1], at);
-      if (w < 0) at.fail("has a negative weight for vertex " + std::to_string(v));
+      // A fraction of the vertex (cmu_mb's are in [0.0001, 1]); 1e308 would overflow the float.
+      if (!(w >= 0 && w <= 1)) at.fail("has weight " + e[1].dump() + " for vertex " + std::to_string(v) + ", expected [0, 1]");
       if (w > 0) r.weights[static_cast<size_t>(v)].push_back({b, static_cast<float>(w)});
     }
   }

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -494,18 +495,27 @@ TEST(GlbAssimp, ReadsBackSkinnedMesh) { FAIL() << "built without Assimp: install
 
 namespace {
 
-// Runs tools/validate-gltf.mjs on one file; returns its JSON summary. Fails (never skips) when
-// node or the validator package is missing: the set-up script installs them.
+// Why the Khronos validator (node + tools/node_modules/gltf-validator) cannot run here, or "".
+std::string khronos_validator_missing() {
+  const fs::path tools = fs::path(CALIPER_SOURCE_DIR) / "tools";
+  if (std::system("node --version > /dev/null 2>&1") != 0)
+    return "node is not installed: run scripts/install-deps.sh";
+  if (!fs::exists(tools / "node_modules" / "gltf-validator"))
+    return "the Khronos validator is missing: run scripts/install-deps.sh (or `cd tools && npm ci`)";
+  return "";
+}
+
+// CALIPER_REQUIRE_TOOLS=1 (set by scripts/test.sh, so in CI, after install-deps.sh) turns a
+// missing external checker into a failure; elsewhere the test is reported as skipped.
+bool tools_required() {
+  const char* v = std::getenv("CALIPER_REQUIRE_TOOLS");
+  return v != nullptr && std::string(v) == "1";
+}
+
+// Runs tools/validate-gltf.mjs on one file; returns its JSON summary (an object), or null after
+// recording a failure when the validator ran but gave no report.
 json khronos_validate(const fs::path& file) {
   const fs::path tools = fs::path(CALIPER_SOURCE_DIR) / "tools";
-  if (std::system("node --version > /dev/null 2>&1") != 0) {
-    ADD_FAILURE() << "node is not installed: run scripts/install-deps.sh";
-    return {};
-  }
-  if (!fs::exists(tools / "node_modules" / "gltf-validator")) {
-    ADD_FAILURE() << "the Khronos validator is missing: run scripts/install-deps.sh (or `cd tools && npm ci`)";
-    return {};
-  }
   const std::string cmd = "node '" + (tools / "validate-gltf.mjs").string() + "' '" + file.string() + "' 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) { ADD_FAILURE() << "cannot run " << cmd; return {}; }
@@ -514,8 +524,8 @@ json khronos_validate(const fs::path& file) {
   for (size_t got; (got = fread(buf, 1, sizeof buf, pipe)) > 0;) out.append(buf, got);
   const int status = pclose(pipe);
   json summary = json::parse(out, nullptr, false);
-  if (summary.is_discarded()) {
-    ADD_FAILURE() << "validator output is not JSON: " << out;
+  if (summary.is_discarded() || !summary.is_object()) {
+    ADD_FAILURE() << "validator output is not a JSON report: " << out;
     return {};
   }
   EXPECT_EQ(status == 0, summary.value("numErrors", 1) == 0) << out;
@@ -524,12 +534,24 @@ json khronos_validate(const fs::path& file) {
 
 }  // namespace
 
+// Skips the test with the reason when the validator cannot run (fails instead when
+// CALIPER_REQUIRE_TOOLS=1); both return from the test body, so nothing reads a missing report.
+#define REQUIRE_KHRONOS_VALIDATOR()                                              \
+  do {                                                                           \
+    if (const std::string why = khronos_validator_missing(); !why.empty()) {     \
+      if (tools_required()) FAIL() << why << " (CALIPER_REQUIRE_TOOLS=1)";       \
+      GTEST_SKIP() << why;                                                       \
+    }                                                                            \
+  } while (0)
+
 TEST(GlbKhronosValidator, SkinnedAvatarHasNoErrorsOrWarnings) {
+  REQUIRE_KHRONOS_VALIDATOR();
   const fs::path dir = temp_dir();
   caliper::GlbOptions options;
   for (int v = 0; v < kVertices; ++v) options.extra_vertex_scalar.push_back(0.01f);
   caliper::save_glb((dir / "tube.glb").string(), tube(), tube().rest_vertices(Eigen::Vector2d(1.0, -1.0)), options);
   const json s = khronos_validate(dir / "tube.glb");
+  ASSERT_TRUE(s.is_object());
   EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
   EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
   EXPECT_TRUE(s["info"].value("hasSkins", false)) << s.dump(1);
@@ -538,23 +560,27 @@ TEST(GlbKhronosValidator, SkinnedAvatarHasNoErrorsOrWarnings) {
 }
 
 TEST(GlbKhronosValidator, PlainMeshHasNoErrors) {
+  REQUIRE_KHRONOS_VALIDATOR();
   const fs::path dir = temp_dir();
   caliper::GlbOptions options;
   options.include_skin = false;
   caliper::save_glb((dir / "plain.glb").string(), tube(), tube().data().template_vertices, options);
   const json s = khronos_validate(dir / "plain.glb");
+  ASSERT_TRUE(s.is_object());
   EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
   EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
   fs::remove_all(dir);
 }
 
 TEST(GlbKhronosValidator, CatchesABrokenFile) {
+  REQUIRE_KHRONOS_VALIDATOR();
   // The check must be able to fail: a GLB whose declared length lies is an error.
   const fs::path dir = temp_dir();
   std::string bytes = caliper::write_glb(tube(), tube().data().template_vertices);
   bytes.resize(bytes.size() - 8);
   write_text(dir / "broken.glb", bytes);
   const json s = khronos_validate(dir / "broken.glb");
+  ASSERT_TRUE(s.is_object());
   EXPECT_GT(s.value("numErrors", 0), 0) << s.dump(1);
   fs::remove_all(dir);
 }
@@ -761,12 +787,14 @@ TEST(GlbTexcoords, SplitOnlyAtSeamsWithTheUnsplitPositionsNormalsAndSkin) {
 }
 
 TEST(GlbTexcoords, ValidatorAndAssimpAcceptIt) {
+  REQUIRE_KHRONOS_VALIDATOR();
   const fs::path dir = temp_dir();
   caliper::GlbOptions options;
   for (int v = 0; v < kVertices; ++v) options.extra_vertex_scalar.push_back(0.01f);
   const Vertices rest = textured_tube().rest_vertices(Eigen::Vector2d(1.0, -1.0));
   caliper::save_glb((dir / "tube-uv.glb").string(), textured_tube(), rest, options);
   const json s = khronos_validate(dir / "tube-uv.glb");
+  ASSERT_TRUE(s.is_object());
   EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
   EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
   EXPECT_EQ(s["info"].value("totalVertexCount", 0), kSplitVertices) << s.dump(1);

@@ -211,6 +211,40 @@ TEST(MakeHumanFiles, RigReaderChecksPresenceTypesAndRanges) {
   EXPECT_EQ(field_of(root(vertex0, vertex0), R"({"bones": {}})"), "weights");
 }
 
+// Found while writing the rig fuzzer's oracle (docs/reliability.md "Fuzzing"; the input is kept in
+// fuzz/regressions/makehuman_rig/): a weight of 1e308 is a finite double but overflows the float
+// the rig keeps, so the vertex's weights became infinite and, once normalised, NaN. A weight is a fraction of its vertex: [0, 1], or an error naming the
+// bone and the range.
+TEST(MakeHumanFiles, RigWeightsAreFractionsOfTheirVertex) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.path / "rigs" / "standard");
+  BaseMesh mesh;
+  mesh.vertices = Vertices::Zero(4, 3);
+  std::ofstream(dir / "rigs/standard/rig.test.json")
+      << R"({"root": {"head": {"strategy": "VERTEX", "vertex_index": 0}, "tail": {"strategy": "VERTEX", "vertex_index": 1}}})";
+  const auto read_with = [&](const std::string& vertex0) {
+    std::ofstream(dir / "rigs/standard/weights.test.json")
+        << R"({"weights": {"root": [)" + vertex0 + R"(, [1, 1], [2, 1], [3, 1]]}})";
+    return read_rig(dir.path.string(), mesh, "test");
+  };
+  for (const std::string bad : {"[0, 1e308], [0, 1e308]", "[0, 1.5]", "[0, -0.5]"}) {
+    try {
+      read_with(bad);
+      ADD_FAILURE() << bad << ": accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Format) << bad;
+      EXPECT_EQ(e.field(), "weights.root") << bad;
+      EXPECT_NE(std::string(e.what()).find("expected [0, 1]"), std::string::npos) << e.what();
+      EXPECT_LT(std::string(e.what()).size(), 200u) << e.what();  // the number as written, not 309 digits
+    }
+  }
+  // Two fractions of one vertex are normalised to sum 1.
+  const Rig rig = read_with("[0, 0.25], [0, 0.5]");
+  ASSERT_EQ(rig.weights.at(0).size(), 2u);
+  EXPECT_FLOAT_EQ(rig.weights[0][0].second, 1.0f / 3);
+  EXPECT_FLOAT_EQ(rig.weights[0][1].second, 2.0f / 3);
+}
+
 // ---- the real assets ----
 
 TEST(MakeHumanAssets, BaseMeshIsClosedManifoldAndInMetres) {
