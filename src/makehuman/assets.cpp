@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kDecimetre = 0.1;  // hm08 units → metres
+constexpr double kMaxDisplacementUnits = 100;  // a target's largest accepted move, decimetres (10 m)
 
 std::string read_text(const fs::path& path) {
   std::ifstream f(path, std::ios::binary);
@@ -146,6 +147,12 @@ Target read_target_lines(const std::string& path, int vertex_count) {
     for (int c = 0; c < 3; ++c) {
       double v = 0;
       if (!parse_number(f[static_cast<size_t>(c) + 1], v)) bad("'" + std::string(f[static_cast<size_t>(c) + 1]) + "' is not a finite number");
+      // The target is kept in floats: a number beyond float's range would become infinite. No
+      // real displacement comes near the bound (MakeHuman's body is about 17 units tall).
+      if (std::abs(v) > kMaxDisplacementUnits)
+        bad("displacement '" + std::string(f[static_cast<size_t>(c) + 1]) + "' is outside [-" +
+            std::to_string(static_cast<int>(kMaxDisplacementUnits)) + ", " +
+            std::to_string(static_cast<int>(kMaxDisplacementUnits)) + "] (decimetres)");
       d(c) = static_cast<float>(v * kDecimetre);
     }
     t.indices.push_back(static_cast<int>(index));

@@ -131,6 +131,13 @@ TEST(MakeHumanFiles, TargetParsesUnitsAndRejectsDamage) {
   EXPECT_NE(message.find("abc"), std::string::npos);
   write_gz(dir / "fields.target.gz", "3 0 0\n");
   EXPECT_EQ(kind_of([&] { read_target(dir / "fields.target.gz", 10); }), ErrorKind::Format);
+  // A displacement beyond float's range (found by fuzz_makehuman_target: it became infinite) and one
+  // merely absurd are refused, quoted as written.
+  for (const char* huge : {"1e53", "-250"}) {
+    write_gz(dir / "huge.target.gz", std::string("3 0 ") + huge + " 0\n");
+    EXPECT_EQ(kind_of([&] { read_target(dir / "huge.target.gz", 10); }, &message), ErrorKind::Format) << huge;
+    EXPECT_NE(message.find(std::string("'") + huge + "' is outside [-100, 100]"), std::string::npos) << message;
+  }
 
   // Not gzip at all, and a gzip stream cut in the middle.
   test::write_file(dir / "plain.target.gz", "0 1 2 3\n");
