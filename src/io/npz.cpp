@@ -605,6 +605,8 @@ std::map<std::string, Array> read_npz(const std::string& path, const ReadLimits&
 }
 
 void write_npz(const std::string& path, const std::map<std::string, std::string>& npy_entries) {
+  // libzip writes no file at all for an archive without entries: refuse instead of "succeeding".
+  if (npy_entries.empty()) throw Error(ErrorKind::InvalidArgument, "cannot write '" + path + "': an .npz needs at least one array", path);
   int err = 0;
   std::unique_ptr<zip_t, ZipCloser> z(zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err));
   if (!z) throw Error(ErrorKind::Io, "cannot create '" + path + "'", path);

@@ -439,3 +439,14 @@ TEST(NpzLimits, EveryLimitIsEnforcedAndNamesTheArray) {
   limits.archive_values = 120;
   EXPECT_EQ(npz::read_npz(dir / "two.npz", limits).size(), 2u);
 }
+
+namespace caliper {
+// libzip writes no file for an archive without entries; write_npz says so instead of "succeeding"
+// (found by fuzz_npz's round trip, fuzz/regressions/npz/).
+TEST(Npz, WritingNoArraysIsRefused) {
+  test::TempDir dir;
+  const std::string path = (dir.path / "empty.npz").string();
+  EXPECT_THROW(npz::write_npz(path, {}), Error);
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+}  // namespace caliper
