@@ -11,7 +11,7 @@ namespace {
 
 struct Server {
   server::Api api;
-  std::string session, code;
+  fuzz::LiveSession session;
   static server::ApiOptions options() {
     server::ApiOptions o;
     o.models_dir = test::toy_models_dir();
@@ -19,19 +19,12 @@ struct Server {
     o.sessions_database = (fuzz::scratch_dir() / "sessions.db").string();
     return o;
   }
-  Server() : api(options()) {
-    server::ApiRequest create{"POST", "/api/sessions", {}, "{}", "application/json", {}, "127.0.0.1", "127.0.0.1"};
-    const auto created = nlohmann::json::parse(api.handle(create).body);
-    session = created["session"]["id"];
-    code = created["pairing_code"];
-  }
+  Server() : api(options()), session(fuzz::create_session(api)) {}
 };
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static Server server;
-  const server::ApiRequest request = fuzz::parse_request(fuzz::as_string(data, size), server.session, server.code);
-  fuzz::check_response(server.api.handle(request), request);
-  return 0;
+  return fuzz::handle_input(server.api, server.session, data, size);
 }

@@ -63,4 +63,24 @@ inline void check_response(const server::ApiResponse& response, const server::Ap
     check(!nlohmann::json::parse(response.body, nullptr, false).is_discarded(), "a JSON response that is not JSON: " + what);
 }
 
+// A live capture session created through `api` (both handlers serve POST /api/sessions): what
+// "{session}" and "{code}" in the inputs stand for.
+struct LiveSession {
+  std::string id, code;
+};
+template <class Handler>
+LiveSession create_session(const Handler& api) {
+  server::ApiRequest create{"POST", "/api/sessions", {}, "{}", "application/json", {}, "127.0.0.1", "127.0.0.1"};
+  const auto created = nlohmann::json::parse(api.handle(create).body);
+  return {created["session"]["id"], created["pairing_code"]};
+}
+
+// One fuzz input through `api`, checked by check_response.
+template <class Handler>
+int handle_input(const Handler& api, const LiveSession& session, const uint8_t* data, size_t size) {
+  const server::ApiRequest request = parse_request(as_string(data, size), session.id, session.code);
+  check_response(api.handle(request), request);
+  return 0;
+}
+
 }  // namespace caliper::fuzz

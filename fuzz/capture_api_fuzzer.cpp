@@ -11,20 +11,12 @@ namespace {
 
 struct Server {
   server::CaptureApi api{server::CaptureApiOptions{(fuzz::scratch_dir() / "capture.db").string(), {}}};
-  std::string session, code;
-  Server() {
-    server::ApiRequest create{"POST", "/api/sessions", {}, "{}", "application/json", {}, "127.0.0.1", "127.0.0.1"};
-    const auto created = nlohmann::json::parse(api.handle(create).body);
-    session = created["session"]["id"];
-    code = created["pairing_code"];
-  }
+  fuzz::LiveSession session = fuzz::create_session(api);
 };
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static Server server;
-  const server::ApiRequest request = fuzz::parse_request(fuzz::as_string(data, size), server.session, server.code);
-  fuzz::check_response(server.api.handle(request), request);
-  return 0;
+  return fuzz::handle_input(server.api, server.session, data, size);
 }
