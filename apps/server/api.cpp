@@ -587,7 +587,7 @@ void require_known_model(const ApiOptions& options, const std::string& model) {
 
 Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->options = std::move(options);
-  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file});
+  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file, {}});
 }
 Api::~Api() = default;
 

@@ -8,7 +8,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -18,7 +17,9 @@
 #include "caliper/capture/service.h"
 #include "caliper/errors.h"
 #include "caliper/vocabulary/catalogue.h"
+#include "client_group.h"
 #include "json_body.h"
+#include "recent_events.h"
 
 namespace caliper::server {
 
@@ -217,6 +218,7 @@ constexpr int kMaxFailures = 5;
 constexpr auto kWindow = std::chrono::seconds(60);
 constexpr size_t kMaxFailureKeys = 4096;
 
+
 // The experimenter's desktop: a client on the server's own machine (loopback, or connected to the
 // server's address from that address). Only it may list sessions with their measurements, read a
 // session without its code and issue a new code. TCP does not let another machine on the network
@@ -245,11 +247,13 @@ bool is_capture_path(const std::string& path) {
 }
 
 struct CaptureApi::Impl {
-  CaptureApiOptions options;
+  explicit Impl(CaptureApiOptions o) : options(std::move(o)) {}
+  const CaptureApiOptions options;
   mutable std::mutex open_mutex;
   mutable std::unique_ptr<CaptureService> service_ptr;
-  mutable std::mutex failures_mutex;
-  mutable std::map<std::string, std::deque<std::chrono::steady_clock::time_point>> failures;
+  mutable RecentEvents failures{kMaxFailures, kWindow, kMaxFailureKeys};  // by client group and session
+  mutable RecentEvents created_per_device{options.creation.per_device, options.creation.device_window, kMaxFailureKeys};
+  mutable RecentEvents created_by_devices{options.creation.by_devices, options.creation.devices_window, 1};
 
   CaptureService& service() const {
     std::lock_guard<std::mutex> lock(open_mutex);
@@ -272,17 +276,10 @@ struct CaptureApi::Impl {
   // Refuses (403, 423 or 429) unless the request carries the session's pairing code.
   void require_pairing(const ApiRequest& req, const std::string& id, const char* what = "this write") const {
     const auto now = std::chrono::steady_clock::now();
-    const std::string key = req.remote_address + " " + id;
-    {
-      std::lock_guard<std::mutex> lock(failures_mutex);
-      if (auto f = failures.find(key); f != failures.end()) {
-        while (!f->second.empty() && now - f->second.front() > kWindow) f->second.pop_front();
-        if (f->second.empty()) failures.erase(f);
-        else if (static_cast<int>(f->second.size()) >= kMaxFailures)
-          refuse(429, "too many wrong pairing codes for this session from this device; wait a minute", "pairing_code",
-                 "too_many_attempts");
-      }
-    }
+    const std::string key = client_group(req.remote_address) + " " + id;
+    if (failures.full(key, now))
+      refuse(429, "too many wrong pairing codes for this session from this device; wait a minute", "pairing_code",
+             "too_many_attempts");
     auto it = req.headers.find("x-caliper-pairing");
     if (it == req.headers.end() || it->second.empty())
       refuse(403, std::string(what) + " needs the session's pairing code in the X-Caliper-Pairing header", "pairing_code", "forbidden");
@@ -305,23 +302,12 @@ struct CaptureApi::Impl {
                    "from the desktop (Capture page: New code, or `caliper sessions pair " + id + "`) and pair again",
                "pairing_code", "pairing_locked");
       case PairingStatus::WrongCode:
-        remember_failure(key, now, check.counted);  // a code already counted is not a new guess
+        if (check.counted) failures.record(key, now);  // a code already counted is not a new guess
         refuse(403,
                "wrong pairing code for this session (" + std::to_string(check.max_failures - check.failures) +
                    " more wrong codes lock it until the experimenter issues a new one)",
                "pairing_code", "forbidden");
     }
-  }
-
-  void remember_failure(const std::string& key, std::chrono::steady_clock::time_point now, bool wrong) const {
-    if (!wrong) return;
-    std::lock_guard<std::mutex> lock(failures_mutex);
-    if (failures.size() >= kMaxFailureKeys) {  // bounded: expired entries go first, then any
-      for (auto f = failures.begin(); f != failures.end();)
-        f = f->second.empty() || now - f->second.back() > kWindow ? failures.erase(f) : std::next(f);
-      while (failures.size() >= kMaxFailureKeys) failures.erase(failures.begin());
-    }
-    failures[key].push_back(now);
   }
 
   // Reads of a session's data: the desktop, or a device with the session's code.
@@ -358,6 +344,29 @@ struct CaptureApi::Impl {
     return json_response({{"profiles", all}, {"default", r.default_id()}});
   }
 
+  static std::string minutes(std::chrono::seconds d) {
+    const auto m = std::chrono::duration_cast<std::chrono::minutes>(d).count();
+    return m >= 1 ? std::to_string(m) + (m == 1 ? " minute" : " minutes") : std::to_string(d.count()) + " s";
+  }
+
+  // Refuses (429) a device over its creation budget or when devices together are over theirs.
+  void require_creation_budget(const ApiRequest& req) const {
+    if (is_desktop(req)) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (created_per_device.full(client_group(req.remote_address), now))
+      refuse(429,
+             "this device has created " + std::to_string(options.creation.per_device) + " capture sessions in the last " +
+                 minutes(options.creation.device_window) + "; join an existing session, or create it on the experimenter's desktop",
+             "session", "too_many_sessions");
+    if (!created_by_devices.try_record("devices", now))
+      refuse(429,
+             "devices other than the experimenter's desktop have created " + std::to_string(options.creation.by_devices) +
+                 " capture sessions in the last " + minutes(options.creation.devices_window) +
+                 "; create the session on the experimenter's desktop",
+             "session", "too_many_sessions");
+    created_per_device.record(client_group(req.remote_address), now);
+  }
+
   ApiResponse create(const ApiRequest& req) const {
     const ordered_json j = parse_object(req.body, true);
     only_fields(j, {"mode", "steps", "sex", "weight_kg", "profile"});
@@ -367,6 +376,7 @@ struct CaptureApi::Impl {
     n.sex = sex_field(j);
     n.weight_kg = weight_field(j);
     n.profile = string_field(j, "profile", "");
+    require_creation_budget(req);  // after the body is checked: a malformed request spends nothing
     const CaptureService::Created c = service().create(n);
     return json_response({{"session", session_json(c.session, true)}, {"pairing_code", c.pairing_code}}, 201);
   }
@@ -494,7 +504,7 @@ struct CaptureApi::Impl {
 
 void check_capture_profiles_file(const std::string& path) { load_profiles(path); }
 
-CaptureApi::CaptureApi(CaptureApiOptions options) : impl_(std::make_unique<Impl>()) { impl_->options = std::move(options); }
+CaptureApi::CaptureApi(CaptureApiOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
 CaptureApi::~CaptureApi() = default;
 
 ApiResponse CaptureApi::handle(const ApiRequest& request) const {

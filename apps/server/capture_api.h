@@ -2,6 +2,7 @@
 // /api/sessions… and /api/capture/…, over the library's CaptureService. Transport-free like
 // api.h: requests in, responses out; no httplib here.
 #pragma once
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -10,9 +11,23 @@
 
 namespace caliper::server {
 
+// Sessions created by devices other than the experimenter's desktop (the headset page creates its
+// own). Each costs a PBKDF2 verifier (~0.1 s of CPU) and a row kept until deleted, so a device
+// (an IPv4 address or an IPv6 /64) may create `per_device` per `device_window`, and all devices
+// together `by_devices` per `devices_window`, whatever addresses they use. The desktop is never
+// limited: when devices are refused, the experimenter creates the session there and the headset
+// joins it with the code. docs/api.md "Pairing".
+struct SessionCreationBudget {
+  int per_device = 10;
+  std::chrono::seconds device_window = std::chrono::minutes(10);
+  int by_devices = 100;
+  std::chrono::seconds devices_window = std::chrono::hours(1);
+};
+
 struct CaptureApiOptions {
   std::string database;       // sessions.db path; empty: the user's default data folder
   std::string profiles_file;  // optional JSON overriding controller profiles
+  SessionCreationBudget creation;
 };
 
 // True for the paths CaptureApi serves.

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "api.h"
+#include "client_group.h"
 
 namespace caliper::server {
 namespace {
@@ -100,6 +101,7 @@ struct Connection {
   int socket = -1;
   SSL* tls = nullptr;  // null for plain HTTP
   std::string address, local_address;
+  std::string group;              // client_group(address): what the per-address cap counts
   int port = 0, local_port = 0;
   Phase phase = Phase::Idle;
   bool refused = false;           // over its address's cap: answered 503 at once
@@ -283,7 +285,7 @@ struct ConnectionFront::Impl {
 
   std::mutex mutex;  // guards the members below up to `stopped`
   std::vector<std::unique_ptr<Connection>> arrivals;  // new or handed back, for the waiting room to take
-  std::unordered_map<std::string, int> per_address;   // open connections by client address
+  std::unordered_map<std::string, int> per_address;   // open connections by client group (client_group.h)
   int open = 0;
   std::size_t body_budget_used = 0;      // of kSharedBodyBudget, by requests being received
   std::size_t response_budget_used = 0;  // of kSharedResponseBudget, by responses being sent
@@ -311,17 +313,18 @@ struct ConnectionFront::Impl {
     sockaddr_storage a{};
     socklen_t length = sizeof a;
     if (::getpeername(socket, reinterpret_cast<sockaddr*>(&a), &length) == 0) numeric_address(a, length, c->address, c->port);
+    c->group = client_group(c->address);
     length = sizeof a;
     if (::getsockname(socket, reinterpret_cast<sockaddr*>(&a), &length) == 0)
       numeric_address(a, length, c->local_address, c->local_port);
     {
       std::lock_guard<std::mutex> lock(mutex);
-      int& from_address = per_address[c->address];
+      int& from_address = per_address[c->group];
       // Beyond twice the cap (or the total) not even a refusal is worth a socket.
       const bool beyond_total = open >= limits.max_total &&
                                 (open >= limits.max_total + kAdmittedBeyondTotal || from_address >= kMostOpenToGoBeyondTotal);
       if (stopping || beyond_total || from_address >= 2 * limits.max_per_address) {
-        if (from_address == 0) per_address.erase(c->address);
+        if (from_address == 0) per_address.erase(c->group);
         return;  // ~Connection closes the socket
       }
       ++from_address;
@@ -361,7 +364,7 @@ struct ConnectionFront::Impl {
   void release_locked(std::unique_ptr<Connection> c) {
     unreserve_body_locked(*c);
     response_budget_used -= c->outgoing_reserved;
-    if (auto it = per_address.find(c->address); it != per_address.end() && --it->second <= 0) per_address.erase(it);
+    if (auto it = per_address.find(c->group); it != per_address.end() && --it->second <= 0) per_address.erase(it);
     --open;
   }
 
@@ -417,7 +420,7 @@ struct ConnectionFront::Impl {
     while (open > limits.max_total && !waiting.empty()) {
       auto victim = waiting.begin();
       for (auto it = waiting.begin(); it != waiting.end(); ++it) {
-        const int mine = per_address[(*it)->address], theirs = per_address[(*victim)->address];
+        const int mine = per_address[(*it)->group], theirs = per_address[(*victim)->group];
         if (mine > theirs || (mine == theirs && (*it)->waiting_since < (*victim)->waiting_since)) victim = it;
       }
       release_locked(std::move(*victim));
@@ -446,7 +449,7 @@ struct ConnectionFront::Impl {
     // Over its address's cap: answered at once, without waiting for a request that may never come.
     if (c->refused)
       return refuse(*c, refusal(503,
-                                "too many open connections from " + c->address + " (at most " +
+                                "too many open connections from " + c->group + " (at most " +
                                     std::to_string(limits.max_per_address) + "); close idle ones or retry later",
                                 "", "too_many_connections", kRetryAfterSeconds));
     receive_available(*c);

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "caliper/errors.h"
+#include "gate.h"
 #include "json_read.h"
 
 namespace caliper {
@@ -153,10 +154,13 @@ Pose pose_from_json(const BodyModel& model, const std::string& text, const std::
 Pose load_pose(const BodyModel& model, const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(ErrorKind::Io, "cannot open pose file '" + path + "'", path);
-  std::string text(1 << 20 | 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<size_t>(in.gcount()));
-  return pose_from_json(model, text, path);
+  // A pose file is untrusted input: its gate (src/gate.h) lets only the library's errors out.
+  return gate("pose file '" + path + "'", "pose", [&] {
+    std::string text(1 << 20 | 1, '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<size_t>(in.gcount()));
+    return pose_from_json(model, text, path);
+  });
 }
 
 std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model, const Eigen::MatrixX3d& rest_joints,
