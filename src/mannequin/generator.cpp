@@ -1958,9 +1958,9 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // Face, in head centimetres from the glabella (X across, Y up).
         const double X = x / hu, Y = (y - y_g) / (hu * face);
         double f = 0;
-        f += 0.22 * blob(X - 2.9, Y + 0.6, 2.6, 0.55);   // brow ridge, under the glabella ring
-        f -= 0.45 * blob(X - 3.2, Y + 2.35, 2.0, 1.35);  // eye socket
-        f += 0.22 * blob(X - 3.2, Y + 2.45, 1.2, 0.75);  // the eye (lids) inside it
+        f += 0.45 * blob(X - 2.9, Y + 0.6, 2.6, 0.55);   // brow ridge, under the glabella ring
+        f -= 0.90 * blob(X - 3.2, Y + 2.35, 2.0, 1.35);  // eye socket
+        f += 0.30 * blob(X - 3.2, Y + 2.45, 1.2, 0.75);  // the eye (lids) inside it
         f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
         // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
         {
@@ -1972,7 +1972,14 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           f += height * prof * blob(X, 0, half, 1);
           f += 0.45 * blob(X - 1.5, Y + 5.9, 1.0, 0.8);  // the nostrils' wings
         }
-        f += 0.15 * blob(X - 4.0, Y + 4.0, 1.8, 1.1);    // cheekbone
+        // The face is not a flat mask: from the midline the cheeks and the eyes' outer corners
+        // fall back toward the ears (deepest 1 cm at 4 cm out, fading at the sides, where the
+        // front weight ends, and upward into the brow, whose ring carries the head's measures).
+        {
+          const double q = sq(X / 4.0);
+          f -= 1.0 * q * std::exp(1 - q) * smoothstep(0.5, 6.0, -Y) * (1 - smoothstep(11.0, 14.0, -Y));
+        }
+        f += 0.40 * blob(X - 4.0, Y + 4.0, 1.8, 1.1);    // cheekbone
         f += 0.38 * blob(X, Y + 7.75, 2.4, 0.75);        // upper lip
         f += 0.32 * blob(X, Y + 9.1, 2.0, 0.7);          // lower lip
         f -= 0.35 * blob(X, Y + 8.45, 2.7, 0.35);        // mouth line
