@@ -176,11 +176,12 @@ struct TorsoRing {
   double bust = 0, bust_t = 0.75, bust_w = 0.32;  // bust bumps: amplitude (m), angle, width (rad)
   double glute = 0;                                // buttock bumps (m)
   double nose = 0, chin = 0;                       // face bumps (m)
+  double front_taper = 0;  // the front half narrows by this share toward the midline (x × (1 − taper·cos²))
 };
 
 Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
   const double s = std::sin(t), c = std::cos(t), e = 2.0 / r.p;
-  double x = r.a * spow(s, e);
+  double x = r.a * spow(s, e) * (c > 0 ? 1 - r.front_taper * c * c : 1.0);
   double z = r.cz + (c >= 0 ? r.df : r.db) * spow(c, e);
   double tt = std::remainder(t, 2 * kPi);  // (−π, π]
   const double at = std::abs(tt);
@@ -731,12 +732,14 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // of the neck stays straight (a slight hollow only) up to the skull.
     r.a = std::max(0.7 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) - 0.004 * hs; r.df = 0.78 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
+    r.front_taper = 0.35;  // the jaw narrows toward the chin: a U from the front, not a box
     K[kChin] = r;
     // The back of the neck runs up to the occiput; the skull bulges out only above it.
     r.y = y_mouth; r.a = std::max(0.8 * hb2, r.a + 0.003 * hs);  // never narrower than the jaw below
     r.df = 0.84 * hl2;
     r.db = 0.35 * (K[kNeck].db + (head_cz - K[kNeck].cz)) + 0.65 * 0.82 * hl2;
     r.chin = 0.004 * hs;
+    r.front_taper = 0.2;
     K[kMouth] = r;
     TorsoRing g;
     g.y = y_g; g.cz = head_cz;
@@ -746,11 +749,12 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // below it), or the back of the head shows a groove under the glabella ring.
     r.y = y_nose; r.a = 0.92 * hb2; r.df = 0.86 * hl2; r.db = 0.93 * g.db; r.p = 0.5 * (2.2 + g.p);
     r.chin = 0; r.nose = 0;  // the nose itself: sculpt()
+    r.front_taper = 0.05;
     K[kNose] = r;
   }
 
   // Ring levels between keys, then monotone interpolation of every parameter over y.
-  std::vector<double> ky, ka, kdf, kdb, kcz, kp, kbust, kglute, knose, kchin;
+  std::vector<double> ky, ka, kdf, kdb, kcz, kp, kbust, kglute, knose, kchin, kfront_taper;
   for (int key = 0; key < kTorsoKeyCount; ++key) {
     // The iliocristale ring is a level, not a shape: a duplicate knot there would flatten the
     // profile into a visible band.
@@ -758,6 +762,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const TorsoRing& r = K[static_cast<size_t>(key)];
     ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db); kcz.push_back(r.cz);
     kp.push_back(r.p); kbust.push_back(r.bust); kglute.push_back(r.glute); knose.push_back(r.nose); kchin.push_back(r.chin);
+    kfront_taper.push_back(r.front_taper);
   }
   // A knot on the dome (as the dome rings below compute it) gives the head's profile a level
   // tangent at the glabella ring, its widest: the face rings meet the dome without a band.
@@ -766,11 +771,11 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double c = std::sqrt(1 - 0.3 * 0.3);
     ky.push_back(g.y + 0.3 * (d.S - g.y)); ka.push_back(g.a * c); kdf.push_back(g.df * c); kdb.push_back(g.db * c * (1 - 0.03 * (1 - c)));
     kcz.push_back(g.cz - 0.012 * hs * (1 - c)); kp.push_back(g.p); kbust.push_back(0); kglute.push_back(0);
-    knose.push_back(0); kchin.push_back(0);
+    knose.push_back(0); kchin.push_back(0); kfront_taper.push_back(0);
   }
   // The bust needs its own profile: fuller below the apex, fading toward the axilla.
   const MonotoneCurve ca(ky, ka), cdf(ky, kdf), cdb(ky, kdb), ccz(ky, kcz), cp(ky, kp), cglute(ky, kglute),
-      cnose(ky, knose), cchin(ky, kchin);
+      cnose(ky, knose), cchin(ky, kchin), cfront_taper(ky, kfront_taper);
   const double bust = K[kChest].bust;
   const MonotoneCurve cbust({std::min(y_ic, y_ch - 0.1 * sc), y_ch - 0.085 * sc, y_ch - 0.045 * sc, y_ch, y_ch + 0.05 * sc, y_ax, y_acr},
                             {0, 0.05 * bust, 0.7 * bust, bust, 0.6 * bust, 0.25 * bust, 0});
@@ -786,7 +791,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     TorsoRing r;
     r.y = y; r.a = ca(y); r.df = cdf(y); r.db = cdb(y); r.cz = ccz(y); r.p = cp(y);
     r.bust = cbust(y); r.bust_t = bust_t; r.bust_w = bust_w;
-    r.glute = cglute(y); r.nose = cnose(y); r.chin = cchin(y);
+    r.glute = cglute(y); r.nose = cnose(y); r.chin = cchin(y); r.front_taper = cfront_taper(y);
     return r;
   };
   for (int key = 0; key + 1 < kTorsoKeyCount; ++key) {
@@ -796,7 +801,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       TorsoRing r;
       r.y = y; r.a = ca(y); r.df = cdf(y); r.db = cdb(y); r.cz = ccz(y); r.p = cp(y);
       r.bust = cbust(y); r.bust_t = K[kChest].bust_t; r.bust_w = K[kChest].bust_w;
-      r.glute = cglute(y); r.nose = cnose(y); r.chin = cchin(y);
+      r.glute = cglute(y); r.nose = cnose(y); r.chin = cchin(y); r.front_taper = cfront_taper(y);
       if (i == 0 && key != kIlio && key != kArmpit) { r = K[key]; if (key > kChest && key < kNeck) r.bust = cbust(y); }
       P.torso[static_cast<size_t>(k0 + i)] = r;
     }
@@ -1991,8 +1996,8 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         {
           const double yj = -12.4 + 2.4 * sq(std::min(X, 5.5) / 5.5);
           const double along = 1 - smoothstep(4.5, 6.5, X);
-          f += 0.20 * along * blob(Y - (yj + 0.4), 0, 0.8, 1);
-          f -= 0.30 * along * blob(Y - (yj - 0.9), 0, 0.9, 1);
+          f += 0.12 * along * blob(Y - (yj + 0.4), 0, 0.8, 1);
+          f -= 0.20 * along * blob(Y - (yj - 0.9), 0, 0.9, 1);
         }
         h += front * f * hu;
         // Ears: a flattened shell on each side, behind the head's mid-depth.
