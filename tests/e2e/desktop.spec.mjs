@@ -213,7 +213,10 @@ try {
   await page.fill('#in-stature', '68');  // inches
   await err.waitFor({ state: 'visible', timeout: 10000 });
   check(/inches/.test(await err.innerText()) && await page.locator('#use-suggested').isVisible(), 'a height in inches is questioned in place', await err.innerText());
-  if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-mistake.png') });
+  if (screenshots) {
+    await err.scrollIntoViewIfNeeded();
+    await page.screenshot({ path: join(screenshots, 'desktop-tool-mistake.png') });
+  }
   n = await updates();
   await page.click('#use-suggested');
   await settle(n + 1);
@@ -241,6 +244,62 @@ try {
   check(side.changed > side.total * 0.005, 'the side preset turns the view', `${side.changed} pixels changed`);
   if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-side.png') });
   await page.click('.view-presets button[data-view="front"]');
+
+  // Poses in the viewer: the A pose lowers the arms (the body gets narrower), the stride puts a
+  // leg forward and one back (it gets deeper); the measurements are the same body's.
+  const extent = () => page.evaluate(() => {
+    const p = window.caliper.lastPositions;
+    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    for (let i = 0; i < p.length; i += 3) for (let c = 0; c < 3; ++c) { lo[c] = Math.min(lo[c], p[i + c]); hi[c] = Math.max(hi[c], p[i + c]); }
+    return hi.map((h, c) => h - lo[c]);
+  });
+  const tExtent = await extent();
+  const tTable = await tableText();
+  n = await updates();
+  await page.selectOption('#pose', 'a');
+  await settle(n + 1);
+  const aExtent = await extent();
+  check(aExtent[0] < 0.8 * tExtent[0], 'the A pose lowers the arms', `width ${tExtent[0].toFixed(2)} → ${aExtent[0].toFixed(2)} m`);
+  check(await tableText() === tTable, 'a pose changes the view, not the measurements');
+  n = await updates();
+  await page.selectOption('#pose', 'stride');
+  await settle(n + 1);
+  const strideExtent = await extent();
+  check(strideExtent[2] > tExtent[2] + 0.15, 'the stride pose steps out', `depth ${tExtent[2].toFixed(2)} → ${strideExtent[2].toFixed(2)} m`);
+  if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-stride.png') });
+  n = await updates();
+  await page.selectOption('#pose', 't');
+  await settle(n + 1);
+
+  // Two avatars: keep this one, change the weight, see both overlaid, then side by side.
+  const paintedRight = () => page.evaluate(() => {
+    const src = window.caliper.viewer.canvas;
+    const c = document.createElement('canvas');
+    c.width = src.width; c.height = src.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(src, 0, 0);
+    const d = ctx.getImageData(Math.floor(c.width * 0.6), 0, c.width - Math.floor(c.width * 0.6), c.height).data;
+    let blue = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i + 2] > d[i] + 40) blue += 1;  // the kept body is blue
+    return blue;
+  });
+  await page.click('#compare-keep');
+  check(await page.evaluate(() => window.caliper.viewer.ghost) && /Kept: female/.test(await page.locator('#compare-label').innerText()),
+    'Keep this avatar keeps it on screen', await page.locator('#compare-label').innerText());
+  n = await updates();
+  await page.fill('#in-weight', '100');
+  await settle(n + 1);
+  const rightOverlaid = await paintedRight();
+  await page.selectOption('#compare-mode', 'side');
+  await page.waitForTimeout(300);
+  const rightSide = await paintedRight();
+  check(rightSide > rightOverlaid + 2000, 'side by side puts the kept body beside this one', `${rightOverlaid} → ${rightSide} blue pixels on the right`);
+  if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-compare.png') });
+  await page.click('#compare-clear');
+  check(!(await page.evaluate(() => window.caliper.viewer.ghost)), 'Clear removes the kept body');
+  n = await updates();
+  await page.fill('#in-weight', '72');
+  await settle(n + 1);
 
   // Export a .glb named after the participant and validate it with the Khronos validator.
   await page.fill('#participant', 'P017 a/b');
@@ -295,7 +354,10 @@ try {
   const setText = readFileSync(setFile, 'utf8');
   check(/^measurement,value,unit\n/.test(setText) && /\nstature,178\.1,cm\n/.test(setText) && /\nsex,male,\n/.test(setText),
     'the measurement set exports as CSV', setText);
-  if (screenshots) await page.screenshot({ path: join(screenshots, 'desktop-tool-imported.png') });
+  if (screenshots) {
+    await page.evaluate(() => { for (const p of document.querySelectorAll('.panel')) p.scrollTop = 0; });
+    await page.screenshot({ path: join(screenshots, 'desktop-tool-imported.png') });
+  }
 
   // Inches and pounds: shown and typed in them, still sent in cm and kg.
   await page.selectOption('#units', 'imperial');

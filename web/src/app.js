@@ -68,6 +68,8 @@ const state = {
   fieldErrors: new Map(),   // input name → what is wrong with the text typed there (not sent)
   units: 'metric',          // metric (cm, kg) | imperial (in, lb): display only, the API gets cm and kg
   participant: '',          // carried into exported file names
+  pose: 't',                // the viewer's pose: t (rest), a, stride; exports stay in the rest pose
+  compare: null,            // { positions, faces, label } of a kept avatar, shown beside or over this one
   averageBody: false,       // nothing given: the page shows the population's average body
   blocked: false,           // a session link that failed: nothing is built until the user decides
   topology: new Map(),      // "model/sex" → { faces: Uint32Array, vertexCount }
@@ -95,6 +97,7 @@ const shown = (name, v, digits = 1) => (v === null || v === undefined ? '—' : 
 // ---------------------------------------------------------------------------------------------
 // Viewer: orbit controls, floor grid (10 cm cells), height ruler in cm, camera presets.
 
+const SIDE_OFFSET = 2.0;  // metres between two bodies side by side
 const viewer = (() => {
   const host = $('canvas-host');
   const renderer = new THREE.WebGLRenderer({ antialias: true, alpha: true, preserveDrawingBuffer: true });
@@ -213,9 +216,11 @@ const viewer = (() => {
   function setView(name) {
     view = name;
     // Aim between the floor and the ruler's top; fit that height plus room for the preset bar.
-    const target = new THREE.Vector3(0, (height + 0.2) * 0.5, 0);
+    // Side by side, the kept body stands SIDE_OFFSET to the right: frame both.
+    const side = viewer.compareMode === 'side' && viewer.ghost;
+    const target = new THREE.Vector3(side ? SIDE_OFFSET / 2 - 0.1 : 0, (height + 0.2) * 0.5, 0);
     const fitH = (height + 0.5) / 2 / Math.tan(THREE.MathUtils.degToRad(camera.fov / 2));
-    const fitW = 2.3 / 2 / Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)) / Math.max(camera.aspect, 0.3);
+    const fitW = (side ? 2.3 + SIDE_OFFSET : 2.3) / 2 / Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)) / Math.max(camera.aspect, 0.3);
     const d = Math.max(fitH, fitW);
     const dir = { front: [0, 0, 1], back: [0, 0, -1], side: [1, 0, 0], 'three-quarter': [0.72, 0, 0.7] }[name] ?? [0, 0, 1];
     camera.position.set(target.x + dir[0] * d, target.y + 0.12 * d, target.z + dir[2] * d);
@@ -278,7 +283,42 @@ const viewer = (() => {
     render();
   }
 
-  return { setView, setBody, setHeat, render, renders: 0, hasBody: false, heat: false, canvas: renderer.domElement };
+  // A second body to compare with (before/after, two estimators): a kept copy of an earlier
+  // avatar, drawn translucent blue over the current one or standing beside it.
+  const ghostMaterial = new THREE.MeshStandardMaterial({
+    color: 0x3f7fb0, roughness: 0.5, transparent: true, opacity: 0.4, depthWrite: false,
+  });
+  let ghost = null;
+  function setGhost(positions, faces) {
+    if (ghost) { scene.remove(ghost); ghost.geometry.dispose(); ghost = null; }
+    if (positions) {
+      const g = new THREE.BufferGeometry();
+      g.setIndex(new THREE.BufferAttribute(faces, 1));
+      g.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+      g.computeVertexNormals();
+      ghost = new THREE.Mesh(g, ghostMaterial);
+      ghost.renderOrder = 1;
+      scene.add(ghost);
+    }
+    viewer.ghost = !!ghost;
+    setView(view);
+  }
+  // overlaid: in the same place; side: SIDE_OFFSET to the body's left (the viewer's right), far
+  // enough for two T-posed bodies' arms, nearly opaque.
+  function setCompareMode(mode) {
+    viewer.compareMode = mode;
+    if (!ghost) return;
+    ghost.position.x = mode === 'side' ? SIDE_OFFSET : 0;
+    ghostMaterial.opacity = mode === 'side' ? 0.85 : 0.4;
+    ghostMaterial.depthWrite = mode === 'side';
+    ghostMaterial.needsUpdate = true;
+    setView(view);
+  }
+
+  return {
+    setView, setBody, setHeat, setGhost, setCompareMode, render,
+    renders: 0, hasBody: false, heat: false, ghost: false, compareMode: 'overlay', canvas: renderer.domElement,
+  };
 })();
 state.viewer = viewer;
 
@@ -642,12 +682,14 @@ async function update() {
   const t0 = performance.now();
   state.requests.push(body);
   if (state.requests.length > 50) state.requests.shift();
-  const res = await api('/api/avatar', { method: 'POST', body });
+  const res = await api('/api/avatar', { method: 'POST', body: { ...body, pose: state.pose } });
   const roundTrip = performance.now() - t0;
   const positions = decodeBase64(res.mesh.positions, Float32Array);
   const report = res.report;
   const stature = report.measurements.stature?.achieved_cm ?? 170;
   viewer.setBody(positions, topo.faces, stature / 100);
+  state.lastPositions = positions;
+  state.lastFaces = topo.faces;
   state.vertexSd = res.mesh.vertex_sd ? decodeBase64(res.mesh.vertex_sd, Float32Array) : null;
   applyHeat();
   state.last = res;
@@ -1004,6 +1046,30 @@ function wireControls() {
   $('noise').addEventListener('change', (e) => { remember(); state.noise = e.target.value; changed(); });
   $('units').addEventListener('change', (e) => { setUnits(e.target.value); save(); });
   $('participant').addEventListener('input', (e) => { state.participant = e.target.value; save(); });
+  $('pose').addEventListener('change', (e) => { state.pose = e.target.value; changed(); });
+  $('compare-keep').addEventListener('click', keepForComparison);
+  $('compare-clear').addEventListener('click', clearComparison);
+  $('compare-mode').addEventListener('change', (e) => viewer.setCompareMode(e.target.value));
+}
+
+// Keeps the avatar on screen as the comparison body; the next changes build the other one.
+function keepForComparison() {
+  if (!state.lastPositions) return;
+  const given = [...state.given].map((n) => `${friendly(n)} ${shown(n, state.values[n])} ${displayUnit(n).unit}`).join(', ');
+  state.compare = { positions: state.lastPositions, faces: state.lastFaces, label: `${state.sex}, ${given || 'average'}` };
+  viewer.setGhost(state.compare.positions, state.compare.faces);
+  viewer.setCompareMode($('compare-mode').value);
+  $('compare-label').textContent = `Kept: ${state.compare.label} (${state.pose === 't' ? 'T' : state.pose} pose)`;
+  $('compare-mode').disabled = false;
+  $('compare-clear').disabled = false;
+}
+
+function clearComparison() {
+  state.compare = null;
+  viewer.setGhost(null);
+  $('compare-label').textContent = 'Keep the avatar on screen, then change values to compare.';
+  $('compare-mode').disabled = true;
+  $('compare-clear').disabled = true;
 }
 
 function setUnits(units) {
