@@ -421,6 +421,34 @@ try {
   check(mv.status === 0 && mapSummary.numErrors === 0, 'the map .glb (with _UNCERTAINTY) passes the glTF validator', mv.stdout + mv.stderr);
   check(readFileSync(mapGlb).includes('_UNCERTAINTY'), 'the map .glb carries the _UNCERTAINTY attribute');
 
+  // The paper's R6 needs an arm length: the page says so instead of sending. With one that fits
+  // the body is plausible; 6 cm longer pushes it out of the population (the paper's Fig. 9).
+  n = await updates();
+  await page.fill('#in-span', '183');
+  await settle(n + 1);
+  const beforeR6 = await page.evaluate(() => window.caliper.requests.length);
+  await page.selectOption('#regressor', 'R6');
+  await err.waitFor({ state: 'visible', timeout: 10000 });
+  check(/R6 needs Arm length/.test(await err.innerText()) && await page.evaluate(() => window.caliper.requests.length) === beforeR6,
+    'R6 without an arm length says what is missing and sends nothing', await err.innerText());
+  n = await updates();
+  await page.fill('#in-arm_length', '62');
+  await settle(n + 1);
+  check(await page.locator('#verdict').innerText() === 'plausible' && /R6 · 6 inputs/.test(await page.locator('#regressor-used').innerText()),
+    'R6 with a fitting arm length is plausible', await page.locator('#verdict').innerText());
+  n = await updates();
+  await page.fill('#in-arm_length', '68');
+  await settle(n + 1);
+  check(await page.locator('#verdict').innerText() === 'implausible' && await page.locator('#beta-bars .beta.implausible').count() > 0,
+    'R6 with an arm length 6 cm too long is implausible, its shape values red', await page.locator('#verdict').innerText());
+  if (screenshots) {
+    await page.evaluate(() => { for (const p of document.querySelectorAll('.panel')) p.scrollTop = 0; });
+    await page.screenshot({ path: join(screenshots, 'desktop-tool-implausible.png') });
+  }
+  n = await updates();
+  await page.selectOption('#regressor', 'auto');
+  await settle(n + 1);
+
   // Every control has an accessible name (what a screen reader announces).
   const cdp = await context.newCDPSession(page);
   const { nodes } = await cdp.send('Accessibility.getFullAXTree');
