@@ -595,7 +595,8 @@ void require_known_model(const ApiOptions& options, const std::string& model) {
 
 Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->options = std::move(options);
-  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file});
+  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file,
+                                                                   impl_->options.https, impl_->options.headset_hosts});
 }
 Api::~Api() = default;
 

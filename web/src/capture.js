@@ -74,6 +74,7 @@ const state = {
   catalogue: null,          // names /api/avatar accepts
   weightRange: { min: 10, max: 300 },  // replaced at start by the catalogue's accepted range
   headsetUrl: null,         // what the QR code on the 2-D page encodes
+  headset: null,            // GET /api/capture/headset: { urls, other_devices }
 };
 window.capture = state;     // for the end-to-end test and the curious
 
@@ -958,10 +959,11 @@ async function useWeightRange() {
   for (const id of ['new-weight', 'weight']) { $(id).min = String(r.min); $(id).max = String(r.max); }
 }
 
-// The address for the headset's browser, as a QR code to scan and as text to type: this page's
-// own address with the session, so the headset lands on the same session's Join form.
+// The address for the headset's browser, as a QR code to scan and as text to type: the server's
+// (its LAN address when it listens on all interfaces; else this page's own), with the session, so
+// the headset lands on that session's Join form.
 function headsetUrl() {
-  const url = new URL('/capture.html', location.href);
+  const url = new URL(state.headset?.urls?.[0] ?? new URL('/capture.html', location.href).href);
   if (state.session) url.searchParams.set('session', state.session.id);
   return url.href;
 }
@@ -985,10 +987,11 @@ function drawHeadsetQr() {
   canvas.setAttribute('aria-label', `QR code of ${href}`);
   $('headset-url').textContent = href;
   $('headset-url').href = href;
-  const loopback = ['127.0.0.1', 'localhost', '[::1]'].includes(location.hostname);
-  $('headset-hint').textContent = loopback
-    ? `This page is open as ${location.hostname}: a headset reaches that only over USB (adb reverse tcp:${location.port || 80} tcp:${location.port || 80}). Over the network, start caliper serve --https --host 0.0.0.0 and open this page at the address it prints; the code then points there.`
-    : 'Scan it with the headset (or type the address in its browser), accept the certificate warning once, then join with the pairing code.';
+  const others = (state.headset?.urls ?? []).slice(1);
+  const port = new URL(href).port || (href.startsWith('https') ? '443' : '80');
+  $('headset-hint').textContent = state.headset && !state.headset.other_devices
+    ? `This server listens on this computer only: a headset reaches it over USB (adb reverse tcp:${port} tcp:${port}). For the network, start caliper serve --https --host 0.0.0.0; the code then holds the computer's LAN address.`
+    : `Scan it with the headset (or type the address in its browser), accept the certificate warning once, then join with the pairing code.${others.length ? ` Other addresses of this computer: ${others.join(', ')}.` : ''}`;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1014,6 +1017,7 @@ async function start() {
   });
 
   await useWeightRange();
+  state.headset = await api('/api/capture/headset');
   drawHeadsetQr();
   const prof = await api('/api/capture/profiles');
   state.profiles = prof.profiles;
