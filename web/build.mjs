@@ -3,7 +3,8 @@
 // three.js modules it imports from node_modules (no CDN: the page works offline). There is no
 // bundler; an import map in index.html points the bare 'three' specifier at vendor/three/.
 // The WebXR capture page (capture.html, capture.js, capture.css) is copied the same way and uses
-// the same vendored three.js; iwer (the WebXR emulator) is a test-only devDependency, never copied.
+// the same vendored three.js, plus qrcode-generator's ES module for its headset QR code; iwer (the
+// WebXR emulator) and jsqr (the QR reader) are test-only devDependencies, never copied.
 //
 //   node web/build.mjs          (after `npm ci` in web/, which scripts/install-deps.sh runs)
 import { cp, mkdir, rm, readFile, writeFile, access } from 'node:fs/promises';
@@ -38,6 +39,16 @@ for (const file of vendored) {
 await cp(join(three, 'examples', 'jsm', 'controls', 'OrbitControls.js'),
          join(dist, 'vendor', 'three', 'addons', 'OrbitControls.js'));
 await cp(join(three, 'LICENSE'), join(dist, 'vendor', 'three', 'LICENSE'));
+// The capture page draws the headset address as a QR code (qrcode-generator, MIT, one ES module).
+const qr = join(here, 'node_modules', 'qrcode-generator');
+try {
+  await access(join(qr, 'dist', 'qrcode.mjs'));
+} catch {
+  console.error('web/build.mjs: qrcode-generator is not installed; run `npm ci` in web/ (or scripts/install-deps.sh)');
+  process.exit(2);
+}
+await mkdir(join(dist, 'vendor', 'qrcode-generator'), { recursive: true });
+await cp(join(qr, 'dist', 'qrcode.mjs'), join(dist, 'vendor', 'qrcode-generator', 'qrcode.mjs'));
 
 // Both pages must be there (a missing file would only show as a 404 in a headset).
 for (const page of ['index.html', 'app.js', 'style.css', 'shared.js', 'capture.html', 'capture.js', 'capture.css']) {

@@ -131,6 +131,7 @@ struct BodyRequest {
   std::string regressor = "auto";
   std::map<std::string, double> edge;  // canonical name → cm / kg
   bool include_mesh = true;
+  std::string pose = "t";                     // /api/avatar's mesh: t (the rest pose), a or stride
   std::string noise = "exact";                // auto / map: exact (values as given), self or other
   std::map<std::string, double> noise_sd_si;  // auto / map: per-measurement SD overrides, SI
 };
@@ -185,9 +186,9 @@ void check_measurements(const std::map<std::string, double>& edge, bool force) {
 
 BodyRequest parse_body_request(const std::string& body, const std::string& default_model, bool allow_mesh_flag) {
   const ordered_json j = parse_json_body(body);
-  // The message lists exactly what this endpoint takes ("mesh" only on /api/avatar).
+  // The message lists exactly what this endpoint takes ("mesh" and "pose" only on /api/avatar).
   std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "noise", "noise_sd", "force"};
-  if (allow_mesh_flag) known.insert(known.begin() + 4, "mesh");
+  if (allow_mesh_flag) known.insert(known.begin() + 4, {"mesh", "pose"});
   for (const auto& [key, value] : j.items())
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       std::string list;
@@ -207,6 +208,9 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
     if (!j["mesh"].is_boolean()) bad("mesh must be true or false", "mesh");
     r.include_mesh = j["mesh"].get<bool>();
   }
+  // The viewer's pose (exports stay in the rest pose, rigged, for the client to pose).
+  r.pose = lower(string_field(j, "pose", "t"));
+  if (r.pose != "t" && r.pose != "a" && r.pose != "stride") bad("pose must be t (the rest pose), a or stride", "pose");
   // Who measured, for auto (= map), and optional SDs per measurement (cm or kg); values whose
   // noise nobody stated are reproduced as given.
   r.noise = lower(string_field(j, "noise", "exact"));
@@ -457,13 +461,17 @@ struct Api::Impl {
     j["report"] = ordered_json::parse(avatar_report_json(b.entry->builder->model(), b.avatar, -1));
     j["report"]["model_family"] = r.model;
     if (r.include_mesh) {
-      const Vertices& v = b.avatar.rest_vertices;
+      const BodyModel& model = b.entry->builder->model();
+      const Vertices v = r.pose == "a"        ? pose_vertices(model, b.avatar.rest_vertices, a_pose(model))
+                         : r.pose == "stride" ? pose_vertices(model, b.avatar.rest_vertices, stride_pose(model))
+                                              : b.avatar.rest_vertices;
       std::vector<float> positions(static_cast<size_t>(v.rows()) * 3);
       for (Eigen::Index i = 0; i < v.rows(); ++i)
         for (int c = 0; c < 3; ++c) positions[size_t(i) * 3 + c] = static_cast<float>(v(i, c));
       j["mesh"] = {{"vertex_count", v.rows()},
                    {"positions", base64(positions.data(), positions.size() * sizeof(float))},
                    {"encoding", "float32 little-endian, base64, x y z per vertex, metres, +Y up, facing +Z"},
+                   {"pose", r.pose},
                    {"topology", "/api/topology?model=" + r.model + "&sex=" + to_string(r.sex)}};
       if (b.avatar.vertex_sd.size() == v.rows()) {
         // The map estimator's per-vertex SD, for the page's heat map.
@@ -587,7 +595,8 @@ void require_known_model(const ApiOptions& options, const std::string& model) {
 
 Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->options = std::move(options);
-  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file, {}});
+  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file,
+                                                                   impl_->options.https, impl_->options.headset_hosts, {}});
 }
 Api::~Api() = default;
 

@@ -50,6 +50,11 @@ struct ApiOptions {
   // default data folder, opened on first use) and an optional controller-profiles JSON.
   std::string sessions_database;
   std::string capture_profiles_file;
+  // The capture page's headset address (GET /api/capture/headset): the scheme the server speaks,
+  // and the hosts a headset can reach it at (its LAN addresses when it listens on all
+  // interfaces); empty hosts: the host the client used.
+  bool https = false;
+  std::vector<std::string> headset_hosts;
 };
 
 // Routes /api/* requests. Thread-safe: one AvatarBuilder per (model, sex) is created on first use

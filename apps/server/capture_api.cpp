@@ -11,6 +11,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "caliper/capture/measurement_set.h"
@@ -367,6 +368,32 @@ struct CaptureApi::Impl {
     created_per_device.record(client_group(req.remote_address), now);
   }
 
+  // The address for the headset's browser: this server as the client reached it (scheme, port),
+  // at each LAN address when it listens on all interfaces, else at the host the client used.
+  // `other_devices` says whether another device can open it (not a loopback name).
+  ApiResponse headset(const ApiRequest& req) const {
+    const auto [host, port] = split_host(req);
+    const std::vector<std::string> hosts = options.headset_hosts.empty() ? std::vector<std::string>{host} : options.headset_hosts;
+    ordered_json urls = ordered_json::array();
+    for (const auto& h : hosts)
+      urls.push_back(std::string(options.https ? "https" : "http") + "://" + h + (port.empty() ? "" : ":" + port) + "/capture.html");
+    const bool loopback_only = options.headset_hosts.empty() &&
+                               (is_loopback(host) || host == "localhost" || host == "[::1]");
+    return json_response({{"urls", urls}, {"other_devices", !loopback_only}});
+  }
+
+  // The Host header as host and port ("[::1]:8080" → "[::1]", "8080"); the server checked it
+  // before routing (host_check.h). Without one, the address the client connected to.
+  static std::pair<std::string, std::string> split_host(const ApiRequest& req) {
+    const auto it = req.headers.find("host");
+    if (it == req.headers.end() || it->second.empty()) return {req.local_address, ""};
+    const std::string& h = it->second;
+    const size_t colon = h.rfind(':');
+    const size_t bracket = h.rfind(']');
+    if (colon == std::string::npos || (bracket != std::string::npos && colon < bracket)) return {h, ""};
+    return {h.substr(0, colon), h.substr(colon + 1)};
+  }
+
   ApiResponse create(const ApiRequest& req) const {
     const ordered_json j = parse_object(req.body, true);
     only_fields(j, {"mode", "steps", "sex", "weight_kg", "profile"});
@@ -441,6 +468,10 @@ struct CaptureApi::Impl {
     const std::string& path = req.path;
     const std::string& m = req.method;
     require_utf8(req.body, "the request body");
+    if (path == "/api/capture/headset") {
+      if (m != "GET") refuse(405, m + " is not allowed on " + path + " (use GET)", "method", "method_not_allowed");
+      return headset(req);
+    }
     if (path == "/api/capture/profiles") {
       if (m != "GET") refuse(405, m + " is not allowed on " + path + " (use GET)", "method", "method_not_allowed");
       return profiles();

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "api.h"
 
@@ -27,6 +28,8 @@ struct SessionCreationBudget {
 struct CaptureApiOptions {
   std::string database;       // sessions.db path; empty: the user's default data folder
   std::string profiles_file;  // optional JSON overriding controller profiles
+  bool https = false;                      // for the headset address: the scheme
+  std::vector<std::string> headset_hosts;  // for the headset address; empty: the Host the client used
   SessionCreationBudget creation;
 };
 

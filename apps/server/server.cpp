@@ -16,6 +16,7 @@
 #include "connection_front.h"
 #include "host_check.h"
 #include "static_files.h"
+#include "tls_certificate.h"
 
 namespace caliper::server {
 namespace {
@@ -61,9 +62,19 @@ struct Server::Impl {
   int port = -1;
   int listen_socket = -1;  // captured from httplib to raise its listen backlog
 
-  explicit Impl(ServerOptions o) : options(std::move(o)), api(options.api), owned_http(make_http(options)), http(*owned_http) {
+  explicit Impl(ServerOptions o)
+      : options(std::move(o)), api(api_options(options)), owned_http(make_http(options)), http(*owned_http) {
     if (options.https) front = make_front(static_cast<FrontedServer<httplib::SSLServer>&>(http));
     else front = make_front(static_cast<FrontedServer<httplib::Server>&>(http));
+  }
+
+  // What the API is told about how it is reached: the scheme, and on all interfaces the LAN
+  // addresses a headset can open (the capture page's QR code).
+  static ApiOptions api_options(const ServerOptions& o) {
+    ApiOptions a = o.api;
+    a.https = o.https;
+    if (o.host == "0.0.0.0" && a.headset_hosts.empty()) a.headset_hosts = lan_addresses();
+    return a;
   }
 
   static std::unique_ptr<httplib::Server> make_http(const ServerOptions& o) {

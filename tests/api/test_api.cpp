@@ -318,12 +318,38 @@ TEST_F(ApiTest, UnknownFieldMessagesListWhatTheEndpointAccepts) {
   json body = avatar_body(170, 60);
   body["colour"] = "blue";
   json e = expect_error(call("POST", "/api/avatar", body.dump()), 400, "colour");
-  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, mesh, noise, noise_sd, force"), std::string::npos) << e;
+  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, mesh, pose, noise, noise_sd, force"), std::string::npos) << e;
   body = avatar_body(170, 60);
   body["mesh"] = false;
   EXPECT_EQ(call("POST", "/api/avatar", body.dump()).status, 200);
   e = expect_error(call("POST", "/api/export/obj", body.dump()), 400, "mesh");
   EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd, force)"), std::string::npos) << e;
+}
+
+// The viewer's pose: t (the default, the rest pose), a or stride on /api/avatar; anything else is
+// a 400 naming "pose"; exports take no pose (they are rigged, in the rest pose).
+TEST_F(ApiTest, AvatarPoseIsCheckedAndEchoed) {
+  json body = avatar_body(170, 60);
+  const json rest = post("/api/avatar", body);
+  EXPECT_EQ(rest["mesh"]["pose"], "t");
+  body["pose"] = "T";
+  const json t = post("/api/avatar", body);
+  EXPECT_EQ(t["mesh"]["pose"], "t");
+  EXPECT_EQ(t["mesh"]["positions"], rest["mesh"]["positions"]);
+  for (const char* pose : {"a", "stride"}) {
+    body["pose"] = pose;
+    const json posed = post("/api/avatar", body);
+    EXPECT_EQ(posed["mesh"]["pose"], pose);
+    EXPECT_EQ(posed["mesh"]["vertex_count"], rest["mesh"]["vertex_count"]);
+    EXPECT_EQ(posed["report"]["measurements"], rest["report"]["measurements"]) << "a pose changes the view, not the body";
+  }
+  body["pose"] = "sitting";
+  json e = expect_error(call("POST", "/api/avatar", body.dump()), 400, "pose");
+  EXPECT_NE(e["message"].get<std::string>().find("t (the rest pose), a or stride"), std::string::npos) << e;
+  body["pose"] = 3;
+  expect_error(call("POST", "/api/avatar", body.dump()), 400, "pose");
+  body["pose"] = "a";
+  expect_error(call("POST", "/api/export/glb", body.dump()), 400, "pose");
 }
 
 // docs/api.md: an invalid noise is refused whatever the regressor; a valid one only matters to map.

@@ -115,6 +115,38 @@ TEST(CaptureApi, ProfilesListTipOffsets) {
   EXPECT_DOUBLE_EQ(j["profiles"]["meta-quest-touch-plus"]["tip_offset_m"][2].get<double>(), kTouchPlus.z());
 }
 
+// The capture page's QR code: the address a headset opens. Listening on one address, it is the
+// Host the page used (a loopback name is flagged as this machine only); on all interfaces, each
+// LAN address, with the scheme and the port the page used.
+TEST(CaptureApi, HeadsetAddressFollowsHowTheServerIsReached) {
+  TempDir dir;
+  auto headset = [](const Api& api, const std::string& host) {
+    ApiRequest r;
+    r.method = "GET";
+    r.path = "/api/capture/headset";
+    r.remote_address = "127.0.0.1";
+    r.local_address = "127.0.0.1";
+    if (!host.empty()) r.headers["host"] = host;
+    return api.handle(r);
+  };
+  Api plain(options_for(dir / "s.db"));
+  json j = body_of(headset(plain, "127.0.0.1:8123"));
+  EXPECT_EQ(j["urls"], json({"http://127.0.0.1:8123/capture.html"}));
+  EXPECT_FALSE(j["other_devices"].get<bool>());
+  j = body_of(headset(plain, "192.168.1.5:8080"));
+  EXPECT_EQ(j["urls"], json({"http://192.168.1.5:8080/capture.html"}));
+  EXPECT_TRUE(j["other_devices"].get<bool>());
+  EXPECT_EQ(body_of(headset(plain, "[::1]:9000"))["urls"], json({"http://[::1]:9000/capture.html"}));
+  EXPECT_FALSE(body_of(headset(plain, "localhost"))["other_devices"].get<bool>());
+  ApiOptions lan = options_for(dir / "s.db");
+  lan.https = true;
+  lan.headset_hosts = {"192.168.1.5", "10.0.0.7"};
+  j = body_of(headset(Api(lan), "127.0.0.1:8080"));
+  EXPECT_EQ(j["urls"], json({"https://192.168.1.5:8080/capture.html", "https://10.0.0.7:8080/capture.html"}));
+  EXPECT_TRUE(j["other_devices"].get<bool>());
+  EXPECT_EQ(call(plain, "POST", "/api/capture/headset", "{}").status, 405);
+}
+
 TEST(CaptureApi, AScriptedPersonMeasuredThroughTheApi) {
   TempDir dir;
   Api api(options_for(dir / "s.db"));

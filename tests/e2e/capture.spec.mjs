@@ -270,6 +270,20 @@ try {
   const code = (await page.locator('#pairing-code').innerText()).trim();
   check(/^\d{6}$/.test(code), 'the page shows a six-digit pairing code', code);
   check(await page.evaluate(() => window.capture.session.state) === 'floor', 'a new session starts with the floor');
+  check(await page.locator('#result-links').isHidden(), 'no result buttons before anything is measured');
+  // The weight fields take what the server takes (the catalogue's accepted range).
+  const catalogue = await json(base, '/api/measurements');
+  const weightRange = catalogue.body.measurements.find((m) => m.name === 'weight').accepted_range;
+  const mins = await page.evaluate(() => ['new-weight', 'weight'].map((id) => [document.getElementById(id).min, document.getElementById(id).max]));
+  check(mins.every(([lo, hi]) => Number(lo) === weightRange.min && Number(hi) === weightRange.max), 'the weight fields accept the server\'s range',
+    `${JSON.stringify(mins)} vs ${weightRange.min}–${weightRange.max}`);
+  // The headset address as a QR code: decoded, it is this page with the session.
+  const qrPixels = await page.evaluate(() => {
+    const c = document.getElementById('headset-qr');
+    return { w: c.width, h: c.height, data: Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data) };
+  });
+  const decoded = webRequire('jsqr')(Uint8ClampedArray.from(qrPixels.data), qrPixels.w, qrPixels.h);
+  check(decoded?.data === `${base}/capture.html?session=${sessionId}`, 'the QR code holds the headset address with the session', decoded?.data);
 
   // Writes need the code (the page sends it; a stranger without it is refused).
   const stranger = await json(base, `/api/sessions/${sessionId}/undo`, { method: 'POST', headers: { 'X-Caliper-Pairing': code === '000000' ? '111111' : '000000' } });
@@ -443,6 +457,7 @@ try {
   if (screenshots) await bigShot(join(screenshots, 'capture-mirror.png'));
   const link = await page.locator('#open-desktop').getAttribute('href');
   check(link === `/?session=${sessionId}`, 'the page links to the desktop tool', link);
+  check(await page.locator('#open-desktop').isVisible(), 'the result buttons show once the session is done');
 
   // The 2-D page of the other device followed along.
   await other.waitForFunction(() => window.capture.session?.state === 'done', null, { timeout: 10000 }).catch(() => {});

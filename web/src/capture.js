@@ -5,6 +5,7 @@
 // ISAK repetition rule and says what comes next. The HTTP contract is in docs/capture.md;
 // this page's own notes are in docs/capture-page.md.
 import * as THREE from 'three';
+import qrcode from 'qrcode-generator';
 import { decodeBase64 } from './shared.js';
 
 // ---------------------------------------------------------------------------------------------
@@ -71,6 +72,9 @@ const state = {
   avatarKey: null,          // measurement set the avatar was built from
   avatar: null,             // { mesh, stature }
   catalogue: null,          // names /api/avatar accepts
+  weightRange: { min: 10, max: 300 },  // replaced at start by the catalogue's accepted range
+  headsetUrl: null,         // what the QR code on the 2-D page encodes
+  headset: null,            // GET /api/capture/headset: { urls, other_devices }
 };
 window.capture = state;     // for the end-to-end test and the curious
 
@@ -618,7 +622,8 @@ function vrEntries(hand, gamepad, trigger, now) {
     drawPanel();
   }
   if (Math.abs(y) > 0.6 && now >= stickRepeat) {
-    d.weight = Math.min(300, Math.max(20, (d.weight ?? 70) + (y < 0 ? 0.5 : -0.5)));   // stick up is −y
+    const { min, max } = state.weightRange;
+    d.weight = Math.min(max, Math.max(min, (d.weight ?? 70) + (y < 0 ? 0.5 : -0.5)));   // stick up is −y
     stickRepeat = now + 180;
     drawPanel();
   }
@@ -693,7 +698,10 @@ function renderSession() {
   if (document.activeElement !== $('sex') && s.sex) $('sex').value = s.sex;
   if (document.activeElement !== $('weight') && s.weight_kg !== null && s.weight_kg !== undefined) $('weight').value = s.weight_kg;
   const finished = s.state === 'done';
-  $('result-links').hidden = !finished;
+  // The result links only when there is something to take away.
+  const measured = Object.values(s.values ?? {}).some((v) => v.value_cm !== null && v.value_cm !== undefined);
+  $('result-links').hidden = !(finished && measured);
+  drawHeadsetQr();
   $('open-desktop').href = `/?session=${encodeURIComponent(s.id)}`;
   $('export-json').href = `/api/sessions/${encodeURIComponent(s.id)}/export?format=json`;
   $('export-csv').href = `/api/sessions/${encodeURIComponent(s.id)}/export?format=csv`;
@@ -942,6 +950,50 @@ async function checkXR() {
     : 'No WebXR headset here: open this page in the headset\'s browser (HTTPS or adb reverse, see docs/capture-page.md). You can still create the session here and type its code there.';
 }
 
+// The weight fields accept what the server accepts: the catalogue's range, not a copy of it.
+async function useWeightRange() {
+  const { measurements } = await api('/api/measurements');
+  const r = measurements.find((m) => m.name === 'weight')?.accepted_range;
+  if (!r) return;
+  state.weightRange = { min: r.min, max: r.max };
+  for (const id of ['new-weight', 'weight']) { $(id).min = String(r.min); $(id).max = String(r.max); }
+}
+
+// The address for the headset's browser, as a QR code to scan and as text to type: the server's
+// (its LAN address when it listens on all interfaces; else this page's own), with the session, so
+// the headset lands on that session's Join form.
+function headsetUrl() {
+  const url = new URL(state.headset?.urls?.[0] ?? new URL('/capture.html', location.href).href);
+  if (state.session) url.searchParams.set('session', state.session.id);
+  return url.href;
+}
+
+function drawHeadsetQr() {
+  const href = headsetUrl();
+  if (href === state.headsetUrl) return;
+  state.headsetUrl = href;
+  const qr = qrcode(0, 'M');
+  qr.addData(href);
+  qr.make();
+  const modules = qr.getModuleCount(), quiet = 4, scale = 6;
+  const canvas = $('headset-qr');
+  canvas.width = canvas.height = (modules + 2 * quiet) * scale;
+  const ctx = canvas.getContext('2d');
+  ctx.fillStyle = '#fff';
+  ctx.fillRect(0, 0, canvas.width, canvas.height);
+  ctx.fillStyle = '#000';
+  for (let r = 0; r < modules; ++r)
+    for (let c = 0; c < modules; ++c) if (qr.isDark(r, c)) ctx.fillRect((c + quiet) * scale, (r + quiet) * scale, scale, scale);
+  canvas.setAttribute('aria-label', `QR code of ${href}`);
+  $('headset-url').textContent = href;
+  $('headset-url').href = href;
+  const others = (state.headset?.urls ?? []).slice(1);
+  const port = new URL(href).port || (href.startsWith('https') ? '443' : '80');
+  $('headset-hint').textContent = state.headset && !state.headset.other_devices
+    ? `This server listens on this computer only: a headset reaches it over USB (adb reverse tcp:${port} tcp:${port}). For the network, start caliper serve --https --host 0.0.0.0; the code then holds the computer's LAN address.`
+    : `Scan it with the headset (or type the address in its browser), accept the certificate warning once, then join with the pairing code.${others.length ? ` Other addresses of this computer: ${others.join(', ')}.` : ''}`;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Start
 
@@ -964,6 +1016,9 @@ async function start() {
     saveEntries(body);
   });
 
+  await useWeightRange();
+  state.headset = await api('/api/capture/headset');
+  drawHeadsetQr();
   const prof = await api('/api/capture/profiles');
   state.profiles = prof.profiles;
   state.defaultProfile = prof.default;
