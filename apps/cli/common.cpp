@@ -191,8 +191,7 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
   request.noise_sd = noise_sd;
   if (!opts.map_file.empty()) {
     // A user's own map replaces the model's default one.
-    RealToVirtual::load(opts.map_file).apply(request.measurements);
-    request.apply_model_maps = false;
+    request.maps = RealToVirtual::load(opts.map_file);
   }
   AvatarBuilder builder(out.model);
   out.avatar = builder.build(request);

@@ -410,7 +410,21 @@ expect 3 "a mesh in centimetres" "$CALIPER" measure --mesh "$TMP/her-cm.obj"
 says "read in metres" "the message says which unit"
 expect 3 "render --mesh with a pose" "$CALIPER" render --mesh "$TMP/her.obj" --pose a -o "$TMP/r.png"
 expect 0 "R6 with an arm length" "$CALIPER" avatar --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 --arm-length 58 -o "$TMP/r6.obj"
-says "arm_length 58.00 cm on a person is" "the table says what the avatar was asked for"
+says "arm_length is given as a person measures it" "the table explains the rest-pose value once"
+# The table's arm length is the one measured: requested 58.00, Δ = achieved − requested.
+cp "$TMP/out" "$TMP/r6-table.txt"
+expect 0 "the arm length row compares like with like" awk '$1 == "arm_length" { found = 1; if ($2 != "58.00" || ($6 - ($4 - $2)) ^ 2 > 0.0001) exit 1 } END { exit !found }' "$TMP/r6-table.txt"
+# The report's achieved arm length is the rest-pose one mapped back through the model's own map
+# (read from `model info --json`), and the difference is taken from the measured value.
+expect 0 "R6 with an arm length, report" "$CALIPER" avatar --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 --arm-length 58 -o "$TMP/r6.obj" --report "$TMP/r6.json" -q
+expect 0 "model info as JSON" bash -c "'$CALIPER' model info mannequin --sex female --json > '$TMP/info.json'"
+expect 0 "the report's arm length is as measured, the rest pose beside it" node -e '
+  const fs = require("fs"), r = JSON.parse(fs.readFileSync(process.argv[1], "utf8")), info = JSON.parse(fs.readFileSync(process.argv[2], "utf8"));
+  const map = JSON.parse(info.metadata.real_to_virtual).maps.arm_length, a = r.measurements.arm_length;
+  const near = (x, y) => Math.abs(x - y) < 0.01;
+  process.exit(a.requested_cm === 58 && near(a.difference_cm, a.achieved_cm - 58) &&
+    near(a.rest_pose_cm, map.slope * a.achieved_cm + map.offset_cm) && near(a.rest_pose_target_cm, map.slope * 58 + map.offset_cm) &&
+    !("rest_pose_cm" in r.measurements.stature) && typeof r.rest_pose_note === "string" ? 0 : 1)' "$TMP/r6.json" "$TMP/info.json"
 expect 2 "a mistyped command" "$CALIPER" avatr --height 170
 says "unknown command 'avatr'" "is named"
 expect 3 "render to a .jpg name" "$CALIPER" render --height 170 --weight 60 -o "$TMP/r.jpg"

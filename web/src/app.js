@@ -489,19 +489,13 @@ function renderTable(report) {
     tr.className = cls;
     tr.dataset.name = name;
     const dcls = diff === null ? '' : Math.abs(diff) < 0.5 ? 'small' : Math.abs(diff) >= 1 ? 'large' : '';
-    // A real → virtual map (paper §3.3) turns e.g. a hanging-arm length into its rest-pose
-    // equivalent; the regressor aims at that, so the difference is taken from it.
-    const target = value(m, 'virtual_target');
-    // For a mapped measurement that was not requested, show what a person would measure (the
-    // real equivalent), with the avatar's own rest-pose value in the note.
-    const real = value(m, 'real_equivalent');
-    const shownAch = req === null && real !== null ? real : ach;
-    const note = target !== null
-      ? `<span class="note">rest-pose target ${fmt(target)} ${u} (§3.3 map)</span>`
-      : req === null && real !== null ? `<span class="note">as measured on a person; ${fmt(ach)} ${u} in the rest pose (§3.3 map)</span>` : '';
+    // Values are as a person measures them; a real → virtual map (paper §3.3) makes the avatar's
+    // own rest-pose value differ (arm length): shown once, as a note.
+    const restPose = value(m, 'rest_pose');
+    const note = restPose === null ? '' : `<span class="note">as measured on a person; ${fmt(restPose)} ${u} in the T-pose rest pose (§3.3 map)</span>`;
     tr.innerHTML = `<td title="${state.info.get(name)?.label ?? name}">${friendly(name)}${note}</td>
       <td>${req === null ? '—' : `${fmt(req)} ${u}`}</td>
-      <td>${shownAch === null ? '—' : `${fmt(shownAch)} ${u}`}</td>
+      <td>${ach === null ? '—' : `${fmt(ach)} ${u}`}</td>
       <td class="delta ${dcls}">${diff === null ? '' : `${diff >= 0 ? '+' : '−'}${Math.abs(diff).toFixed(2)}`}</td>
       <td class="sd">${sdCell(value(m, 'uncertainty'))}</td>`;
     tbody.appendChild(tr);
