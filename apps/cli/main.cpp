@@ -28,7 +28,10 @@ int main(int argc, char** argv) {
       return caliper::cli::kUsage;
     }
     const int code = app.exit(e);
+    if (code != 0) caliper::cli::explain_parse_error(app, argc, argv);
     return code == 0 ? 0 : caliper::cli::kUsage;
+  } catch (const caliper::cli::Finished& f) {
+    return f.code;
   } catch (const caliper::Error& e) {
     std::cerr << "caliper: " << e.what() << "\n";
     if (e.from_installation())
