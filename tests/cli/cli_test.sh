@@ -535,6 +535,8 @@ expect 0 "each avatar is its row's person" node -e '
   process.exit(a.sex === "female" && m(a, "stature").requested_cm === 165 && m(a, "hip_breadth").requested_cm === 36 &&
     m(a, "span").requested_cm === 167 && b.sex === "male" && m(b, "crotch_height").requested_cm === 84 &&
     m(c, "stature").requested_cm === 160 && !("requested_cm" in m(c, "span")) ? 0 : 1)' "$TMP/people"
+expect 0 "batch on the README's example spreadsheet" "$CALIPER" batch --subjects "$SRC/examples/participants.csv" --out "$TMP/example"
+expect 0 "one avatar and report per participant" test -s "$TMP/example/P-003.glb" -a -s "$TMP/example/P-003.json" -a -s "$TMP/example/P-001.json"
 printf 'id,height,weight\nA,165,60\n' >"$TMP/nosex.csv"
 expect 7 "batch rows without a sex" "$CALIPER" batch --subjects "$TMP/nosex.csv" --out "$TMP/nosex"
 says "add a sex column" "says how to give it"
