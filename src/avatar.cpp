@@ -136,6 +136,9 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
       throw Error(ErrorKind::InvalidArgument, "a noise SD was given for " + name + ", which is not among the measurements", name);
   if (inputs.empty())
     throw Error(ErrorKind::Unsupported, "map needs at least one measurement the model can measure", "measurements");
+  // The words say each value as the person measured it (the estimator works in the model's terms).
+  const RealToVirtual maps = avatar.real_to_virtual;
+  options.as_measured = [maps](const std::string& name, double value) { return maps.map(name).invert(value); };
   const MapEstimate est = map_.estimate(inputs, options);
   avatar.beta = est.beta;
   avatar.beta_covariance = est.covariance;
@@ -145,7 +148,7 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
   avatar.noise_widened = est.noise_widened;
   avatar.warnings.insert(avatar.warnings.begin(), est.warnings.begin(), est.warnings.end());
   finish(request, avatar);
-  avatar.plausibility.drivers = describe_drivers(*model_, est.inputs);
+  avatar.plausibility.drivers = describe_drivers(*model_, est.inputs, options.as_measured);
   // Measurements not asked for (measure_only) keep no SD, so the report lists matching keys.
   if (!request.measure_only.empty())
     for (auto it = avatar.uncertainty.begin(); it != avatar.uncertainty.end();)

@@ -88,10 +88,11 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
       const bool kg = info && info->unit == Unit::Kilogram;
       const std::string suffix = kg ? "_kg" : "_cm";
       const double scale = kg ? 1.0 : 100.0;
-      inputs[name] = {{"noise_sd" + suffix, round_to(fit.noise_sd * scale, 1e-4)},
-                      {"effective_sd" + suffix, round_to(fit.effective_sd * scale, 1e-4)},
-                      {"expected" + suffix, round_to(fit.expected * scale, 1e-3)},
-                      {"expected_sd" + suffix, round_to(fit.expected_sd * scale, 1e-3)},
+      // As a person measures it, like the measurements above (z is the same in either terms).
+      inputs[name] = {{"noise_sd" + suffix, round_to(sd_as_measured(avatar, name, fit.noise_sd) * scale, 1e-4)},
+                      {"effective_sd" + suffix, round_to(sd_as_measured(avatar, name, fit.effective_sd) * scale, 1e-4)},
+                      {"expected" + suffix, round_to(as_measured(avatar, name, fit.expected) * scale, 1e-3)},
+                      {"expected_sd" + suffix, round_to(sd_as_measured(avatar, name, fit.expected_sd) * scale, 1e-3)},
                       {"z", round_to(fit.z, 1e-3)}};
     }
     u["inputs"] = inputs;

@@ -418,6 +418,13 @@ expect 0 "the arm length row compares like with like" awk '$1 == "arm_length" { 
 # The report's achieved arm length is the rest-pose one mapped back through the model's own map
 # (read from `model info --json`), and the difference is taken from the measured value.
 expect 0 "R6 with an arm length, report" "$CALIPER" avatar --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 --arm-length 58 -o "$TMP/r6.obj" --report "$TMP/r6.json" -q
+# Warnings and drivers say the arm length as it was given (70 cm), not its rest-pose value.
+expect 0 "an arm length that contradicts the rest" "$CALIPER" avatar --height 165 --weight 62 --arm-length 70 --noise self -o "$TMP/arm.obj" --report "$TMP/arm.json" -q
+says "(given 70.0 cm;" "the warning names the value as given"
+expect 0 "the warning's reconciled value is the report's achieved arm length" node -e '
+  const r = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8")), a = r.measurements.arm_length;
+  const m = /reconciles it at ([0-9.]+) cm/.exec(r.warnings.join(" "));
+  process.exit(m && Math.abs(Number(m[1]) - a.achieved_cm) < 0.06 && r.plausibility.drivers.some((d) => d.startsWith("arm_length 70.0 cm")) ? 0 : 1)' "$TMP/arm.json"
 expect 0 "model info as JSON" bash -c "'$CALIPER' model info mannequin --sex female --json > '$TMP/info.json'"
 expect 0 "the report's arm length is as measured, the rest pose beside it" node -e '
   const fs = require("fs"), r = JSON.parse(fs.readFileSync(process.argv[1], "utf8")), info = JSON.parse(fs.readFileSync(process.argv[2], "utf8"));
