@@ -46,7 +46,7 @@ function(caliper_stage_files root stage out)
   elseif(stage STREQUAL "base")
     set(patterns include/caliper/errors.h include/caliper/utf8.h include/caliper/private_files.h
       include/caliper/random.h include/caliper/detail/*.h src/*.h src/errors.cpp src/utf8.cpp
-      src/private_files.cpp src/json_read.cpp)
+      src/private_files.cpp src/json_read.cpp src/csv_table.cpp)
   else()
     set(patterns include/caliper/${stage}/*.h src/${stage}/*.h src/${stage}/*.cpp)
   endif()

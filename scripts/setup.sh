@@ -1,20 +1,31 @@
 #!/usr/bin/env bash
-# The README's first command: installs every dependency (Debian + npm), builds Caliper, and
-# runs the main job — an avatar from measurements on the built-in body model.
+# The README's first command: installs every dependency (Debian + npm), builds Caliper, installs
+# it for you (the `caliper` command, its models and the desktop tool's page) under
+# $CALIPER_PREFIX (default ~/.local), and runs the main job with the installed command — an
+# avatar from measurements on the built-in body model.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
+PREFIX="${CALIPER_PREFIX:-$HOME/.local}"
+echo
+echo "[caliper] installing into $PREFIX (bin/caliper, share/caliper/, include/, lib/; CALIPER_PREFIX=… picks another folder)"
+cmake --install build --prefix "$PREFIX" >/dev/null
+CALIPER="$PREFIX/bin/caliper"
 mkdir -p out
 echo
 echo "[caliper] building an avatar on the built-in body (female, 165 cm, 62 kg, arm span 167 cm, inseam 78 cm, hip width 36 cm)"
-build/bin/caliper avatar --sex female --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 \
+"$CALIPER" avatar --sex female --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 \
   -o out/avatar.glb --report out/avatar-report.json
-build/bin/caliper render --sex female --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 \
+"$CALIPER" render --sex female --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 \
   -o out/avatar.png
 echo
 echo "[caliper] done: out/avatar.glb (rigged glTF 2.0: Blender, Unity, three.js), out/avatar-report.json, out/avatar.png"
+case ":$PATH:" in
+  *":$PREFIX/bin:"*) echo "[caliper] the command is $CALIPER (on your PATH: type caliper --help)" ;;
+  *) echo "[caliper] the command is $CALIPER; add $PREFIX/bin to your PATH to type just caliper" ;;
+esac
 if [ -n "${CI:-}" ] || [ "${CALIPER_NO_SERVE:-0}" = "1" ]; then exit 0; fi
 echo
 echo "[caliper] starting the desktop tool: open http://127.0.0.1:8080/ in a browser (Ctrl+C stops it)"
-exec build/bin/caliper serve
+exec "$CALIPER" serve

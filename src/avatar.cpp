@@ -112,9 +112,7 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
   avatar.regressor = "map";
   avatar.noise = to_string(options.noise);
   avatar.requested = request.measurements;
-  avatar.model_maps = maps_;
-  avatar.targets = request.measurements;
-  if (request.apply_model_maps) maps_.apply(avatar.targets);
+  apply_maps(request, avatar);
   std::map<std::string, double> inputs;
   for (const auto& [name, value] : avatar.targets) {
     if (!model_->find_measurement(name)) {
@@ -129,10 +127,8 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
     // its own residual: the T-posed avatar's arm length is not a function of the hanging arm's
     // alone (paper §3.3), so it is not pinned tighter than the map knows it (else it drags
     // biacromial breadth, docs/evaluation.md).
-    if (request.apply_model_maps) {
-      const LinearMap& m = maps_.map(name);
+    if (const LinearMap& m = avatar.real_to_virtual.map(name); !m.is_identity())
       sd = std::hypot(std::abs(m.slope) * sd, m.rmse);
-    }
     options.noise_sd[name] = sd;
   }
   for (const auto& [name, sd] : request.noise_sd)
@@ -140,6 +136,9 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
       throw Error(ErrorKind::InvalidArgument, "a noise SD was given for " + name + ", which is not among the measurements", name);
   if (inputs.empty())
     throw Error(ErrorKind::Unsupported, "map needs at least one measurement the model can measure", "measurements");
+  // The words say each value as the person measured it (the estimator works in the model's terms).
+  const RealToVirtual maps = avatar.real_to_virtual;
+  options.as_measured = [maps](const std::string& name, double value) { return maps.map(name).invert(value); };
   const MapEstimate est = map_.estimate(inputs, options);
   avatar.beta = est.beta;
   avatar.beta_covariance = est.covariance;
@@ -149,12 +148,18 @@ Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
   avatar.noise_widened = est.noise_widened;
   avatar.warnings.insert(avatar.warnings.begin(), est.warnings.begin(), est.warnings.end());
   finish(request, avatar);
-  avatar.plausibility.drivers = describe_drivers(*model_, est.inputs);
+  avatar.plausibility.drivers = describe_drivers(*model_, est.inputs, options.as_measured);
   // Measurements not asked for (measure_only) keep no SD, so the report lists matching keys.
   if (!request.measure_only.empty())
     for (auto it = avatar.uncertainty.begin(); it != avatar.uncertainty.end();)
       it = avatar.achieved.count(it->first) ? std::next(it) : avatar.uncertainty.erase(it);
   return avatar;
+}
+
+void AvatarBuilder::apply_maps(const AvatarRequest& request, Avatar& avatar) const {
+  if (request.apply_model_maps) avatar.real_to_virtual = request.maps ? *request.maps : maps_;
+  avatar.targets = request.measurements;
+  avatar.real_to_virtual.apply(avatar.targets);
 }
 
 void AvatarBuilder::finish(const AvatarRequest& request, Avatar& avatar) const {
@@ -203,9 +208,7 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   const std::shared_ptr<const Regressor> r = regressor(key, inputs);
   avatar.regressor = key;
   avatar.inputs = inputs;
-  avatar.targets = request.measurements;
-  avatar.model_maps = maps_;
-  if (request.apply_model_maps) maps_.apply(avatar.targets);
+  apply_maps(request, avatar);
   avatar.beta = r->predict(*model_, avatar.targets);
   finish(request, avatar);
   warn_about_inputs(avatar);
@@ -230,11 +233,25 @@ void AvatarBuilder::warn_about_inputs(Avatar& avatar) const {
     const double tolerance = std::max(kg ? 2.0 : 0.01, 0.03 * std::abs(target->second));  // 2 kg or 1 cm, 3 %
     if (std::abs(got->second - target->second) <= tolerance) continue;
     std::ostringstream msg;
-    msg << std::fixed << std::setprecision(1) << name << ": the body reaches " << si_to_edge(*info, got->second) << " "
-        << edge_unit(*info) << ", not the " << si_to_edge(*info, target->second) << " " << edge_unit(*info)
+    // Said in the person's terms, as the table and the report show it.
+    const double reached = as_measured(avatar, name, got->second), asked = avatar.requested.at(name);
+    msg << std::fixed << std::setprecision(1) << name << ": the body reaches " << si_to_edge(*info, reached) << " "
+        << edge_unit(*info) << ", not the " << si_to_edge(*info, asked) << " " << edge_unit(*info)
         << " asked: these values together lie outside what the model can represent";
     avatar.warnings.push_back(msg.str());
   }
+}
+
+double as_measured(const Avatar& avatar, const std::string& name, double rest_pose_value) {
+  return avatar.real_to_virtual.map(name).invert(rest_pose_value);
+}
+
+double sd_as_measured(const Avatar& avatar, const std::string& name, double rest_pose_sd) {
+  return rest_pose_sd / std::abs(avatar.real_to_virtual.map(name).slope);
+}
+
+bool measured_differs_from_rest_pose(const Avatar& avatar, const std::string& name) {
+  return !avatar.real_to_virtual.map(name).is_identity();
 }
 
 std::map<std::string, double> measurements_from_edge(const std::map<std::string, double>& edge_values) {

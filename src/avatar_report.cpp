@@ -39,27 +39,30 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
                                  "unusual, > 3 implausible"}};
   if (avatar.noise_widened > 1) j["plausibility"]["outside_population_noise_widened"] = round_to(avatar.noise_widened, 1e-3);
   ordered_json ms = ordered_json::object();
-  for (const auto& [name, achieved] : avatar.achieved) {
+  bool any_rest_pose = false;
+  for (const auto& [name, rest_pose] : avatar.achieved) {
     const MeasurementInfo* info = find_measurement_info(name);
     const bool kg = info && info->unit == Unit::Kilogram;
     const std::string suffix = kg ? "_kg" : "_cm";
     const double scale = kg ? 1.0 : 100.0;
+    // Every value is what a person measures (arm length with the arm hanging), so achieved and
+    // difference compare like with like; a mapped measurement also gives the avatar's own value
+    // in its T-pose rest pose and the rest-pose value it was built for (paper §3.3).
+    const double achieved = as_measured(avatar, name, rest_pose);
     ordered_json m = ordered_json::object();
     auto req = avatar.requested.find(name);
     if (req != avatar.requested.end()) m["requested" + suffix] = round_to(req->second * scale, 1e-3);
     m["achieved" + suffix] = round_to(achieved * scale, 1e-3);
-    auto target = avatar.targets.find(name);
-    const bool mapped = target != avatar.targets.end() && req != avatar.requested.end() && target->second != req->second;
-    if (mapped) m["virtual_target" + suffix] = round_to(target->second * scale, 1e-3);
-    // A measurement the model maps real → virtual (e.g. arm length, taken hanging on a person,
-    // in a T-pose on the avatar) is also given as the real measurement it corresponds to.
-    if (const LinearMap& lm = avatar.model_maps.map(name); !lm.is_identity())
-      m["real_equivalent" + suffix] = round_to(lm.invert(achieved) * scale, 1e-3);
-    if (req != avatar.requested.end())
-      m["difference" + suffix] = round_to((achieved - (mapped ? target->second : req->second)) * scale, 1e-3);
+    if (req != avatar.requested.end()) m["difference" + suffix] = round_to((achieved - req->second) * scale, 1e-3);
     // Posterior SD of the avatar's value ("map" only): achieved ± uncertainty.
     if (auto u = avatar.uncertainty.find(name); u != avatar.uncertainty.end())
-      m["uncertainty" + suffix] = round_to(u->second * scale, 1e-3);
+      m["uncertainty" + suffix] = round_to(sd_as_measured(avatar, name, u->second) * scale, 1e-3);
+    if (measured_differs_from_rest_pose(avatar, name)) {
+      any_rest_pose = true;
+      m["rest_pose" + suffix] = round_to(rest_pose * scale, 1e-3);
+      if (auto t = avatar.targets.find(name); t != avatar.targets.end())
+        m["rest_pose_target" + suffix] = round_to(t->second * scale, 1e-3);
+    }
     ms[name] = m;
   }
   // Requested values the model cannot measure are still reported, so nothing the user gave vanishes.
@@ -70,6 +73,9 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
       ms[name] = {{kg ? "requested_kg" : "requested_cm", round_to(requested * (kg ? 1 : 100), 1e-3)}, {"achieved_cm", nullptr}};
     }
   j["measurements"] = ms;
+  if (any_rest_pose)
+    j["rest_pose_note"] = "requested, achieved and difference are as a person measures them; rest_pose is the avatar's own "
+                          "value in its T-pose rest pose, through the real-to-virtual map (paper section 3.3)";
   j["warnings"] = avatar.warnings;
   if (avatar.beta_covariance.size() > 0) {
     // The estimator's side of the uncertainty: noise assumed per input, how each input fitted
@@ -82,10 +88,11 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
       const bool kg = info && info->unit == Unit::Kilogram;
       const std::string suffix = kg ? "_kg" : "_cm";
       const double scale = kg ? 1.0 : 100.0;
-      inputs[name] = {{"noise_sd" + suffix, round_to(fit.noise_sd * scale, 1e-4)},
-                      {"effective_sd" + suffix, round_to(fit.effective_sd * scale, 1e-4)},
-                      {"expected" + suffix, round_to(fit.expected * scale, 1e-3)},
-                      {"expected_sd" + suffix, round_to(fit.expected_sd * scale, 1e-3)},
+      // As a person measures it, like the measurements above (z is the same in either terms).
+      inputs[name] = {{"noise_sd" + suffix, round_to(sd_as_measured(avatar, name, fit.noise_sd) * scale, 1e-4)},
+                      {"effective_sd" + suffix, round_to(sd_as_measured(avatar, name, fit.effective_sd) * scale, 1e-4)},
+                      {"expected" + suffix, round_to(as_measured(avatar, name, fit.expected) * scale, 1e-3)},
+                      {"expected_sd" + suffix, round_to(sd_as_measured(avatar, name, fit.expected_sd) * scale, 1e-3)},
                       {"z", round_to(fit.z, 1e-3)}};
     }
     u["inputs"] = inputs;

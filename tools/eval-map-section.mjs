@@ -28,7 +28,7 @@ for (const sex of sexes) {
 const lines = [];
 const p = (s = '') => lines.push(s);
 p('<!-- map-section:begin (tools/eval-map-section.mjs) -->');
-p('## Noise-aware estimation with uncertainty (`auto`, the default; issues 7 and 14)');
+p('## Noise-aware estimation with uncertainty (`auto`, the default)');
 p();
 p('`auto` (also called `map`) is the maximum a posteriori shape given every measurement, under the population prior');
 p('β ~ N(0, I) and Gaussian measurement noise (Table 2 MAE × √(π/2); weight 1 kg), with the');

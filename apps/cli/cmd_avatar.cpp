@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "caliper/export/render.h"
 #include "common.h"
@@ -32,26 +33,33 @@ void print_summary(const BuiltAvatar& built, std::ostream& os) {
   };
   const bool sd = !a.uncertainty.empty();
   os << std::left << std::setw(26) << "measurement" << std::right << std::setw(12) << "requested" << std::setw(12)
-     << "achieved" << (sd ? "     ± SD" : "") << "\n";
-  for (const auto& [name, achieved] : a.achieved) {
+     << "achieved" << std::setw(10) << "Δ" << (sd ? "     ± SD" : "") << "\n";
+  std::vector<std::string> rest_pose_notes;  // Δ's header above is two bytes wide, one column
+  for (const auto& [name, rest_pose] : a.achieved) {
+    // Values as a person measures them, so Δ compares like with like (report: docs/cli.md).
+    const double achieved = as_measured(a, name, rest_pose);
     const auto [value, unit] = edge(name, achieved);
     os << std::left << std::setw(26) << name << std::right << std::fixed << std::setprecision(2);
     auto req = a.requested.find(name);
     if (req != a.requested.end()) os << std::setw(9) << edge(name, req->second).first << " " << unit;
     else os << std::setw(12) << "";
     os << std::setw(9) << value << " " << unit;
-    if (auto u = a.uncertainty.find(name); u != a.uncertainty.end()) os << std::setw(9) << edge(name, u->second).first;
+    if (req != a.requested.end()) {
+      const double delta = value - edge(name, req->second).first;
+      os << std::showpos << std::setw(9) << (std::abs(delta) < 0.005 ? 0.0 : delta) << std::noshowpos;  // no "-0.00"
+    }
+    else os << std::setw(9) << "";
+    if (auto u = a.uncertainty.find(name); u != a.uncertainty.end())
+      os << std::setw(9) << edge(name, sd_as_measured(a, name, u->second)).first;
     os << "\n";
+    if (measured_differs_from_rest_pose(a, name)) {
+      std::ostringstream note;
+      note << std::fixed << std::setprecision(2) << name << " is given as a person measures it; in its T-pose rest pose "
+           << "the avatar's is " << edge(name, rest_pose).first << " " << unit;
+      rest_pose_notes.push_back(note.str());
+    }
   }
-  // A value measured on a person can differ from the same measurement on the T-posed avatar
-  // (arm length, paper §3.3): say what the avatar was asked for, or the table reads as a miss.
-  for (const auto& [name, target] : a.targets) {
-    auto req = a.requested.find(name);
-    if (req == a.requested.end() || std::abs(req->second - target) < 1e-9) continue;
-    const auto [asked, unit] = edge(name, req->second);
-    os << "note: " << name << " " << std::fixed << std::setprecision(2) << asked << " " << unit << " on a person is "
-       << edge(name, target).first << " " << unit << " on the avatar in its rest pose (real → virtual map, paper §3.3)\n";
-  }
+  for (const auto& n : rest_pose_notes) os << "note: " << n << " (docs/cli.md, \"Arm length\")\n";
 }
 
 }  // namespace

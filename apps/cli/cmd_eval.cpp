@@ -1,11 +1,14 @@
 // `caliper eval` and `caliper batch`: avatars for every row of an ANSUR II-format CSV.
+#include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <thread>
 #include <nlohmann/json.hpp>
 
+#include "caliper/capture/measurement_set.h"
 #include "caliper/evaluation/evaluate.h"
 #include "caliper/io/ansur.h"
 #include "common.h"
@@ -144,42 +147,83 @@ void register_eval(CLI::App& app) {
   });
 }
 
+namespace {
+
+// A participant id as a file name: letters, digits, '-', '_' and '.' kept, anything else (path
+// separators included) becomes '_', and a leading '.' too, so no id names a hidden file, "..",
+// or a path outside the output folder.
+std::string file_name_of(const std::string& participant) {
+  std::string name;
+  for (char c : participant)
+    name += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ? c : '_';
+  if (!name.empty() && name[0] == '.') name[0] = '_';
+  return name.substr(0, 100);
+}
+
+}  // namespace
+
 void register_batch(CLI::App& app) {
   auto o = std::make_shared<SubjectsOptions>();
   auto out = std::make_shared<std::string>();
   auto regressor = std::make_shared<std::string>("auto");
   auto format = std::make_shared<std::string>("glb");
-  CLI::App* cmd = app.add_subcommand("batch", "Write one avatar and one JSON report per row of an ANSUR II-format CSV");
-  cmd->add_option("--subjects", o->subjects, "CSV in the ANSUR II public format")->required();
-  cmd->add_option("--out", *out, "output folder (created if missing)")->required();
+  auto sex = std::make_shared<std::string>();
+  CLI::App* cmd = app.add_subcommand("batch",
+      "Write one avatar and one JSON report per person of a table: a spreadsheet in cm and kg (one row per person, "
+      "a header of measurement names, an id column) or an ANSUR II-format CSV");
+  cmd->add_option("--subjects", o->subjects,
+                  "CSV, one person per row: id,sex,height,weight,… in cm and kg (',' or ';' separated, decimal "
+                  "commas allowed; docs/cli.md), or the ANSUR II public format")
+      ->required();
+  cmd->add_option("--out", *out, "output folder (created if missing); files are named after the id column")->required();
+  cmd->add_option("--sex", *sex, "female, male or neutral: the sex of rows without a sex column or value");
   cmd->add_option("--regressor", *regressor, "R2, R4, R5, R6, auto, map or a comma list of measurements")->capture_default_str();
   cmd->add_option("--format", *format, "glb or obj")->check(CLI::IsMember({"glb", "obj"}))->capture_default_str();
   cmd->add_option("--model", o->model, "body model family or path")->capture_default_str();
   cmd->callback([=] {
-    const auto subjects = read_ansur_csv(o->subjects);
+    MeasurementTable table = read_measurement_table(o->subjects);
+    const std::optional<Sex> default_sex = sex->empty() ? std::nullopt : std::optional<Sex>(parse_sex(*sex));
     std::error_code ec;
     std::filesystem::create_directories(*out, ec);
     if (ec) throw Error(ErrorKind::Io, "cannot create '" + *out + "': " + ec.message(), "--out");
     auto builder_for = builders_for(o->model);
     auto progress = progress_bar("writing avatars");
-    int done = 0;
-    for (const auto& s : subjects) {
-      auto builder = builder_for(s.sex);
-      AvatarRequest request;
-      request.measurements = virtual_caliper_inputs(s);
-      request.regressor = *regressor;
-      const Avatar a = builder->build(request);
-      // Subject ids become file names: keep them to safe characters.
-      std::string id;
-      for (char c : s.id) id += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
-      const std::string base = *out + "/" + (id.empty() ? std::to_string(done) : id);
-      if (*format == "glb") save_glb(base + ".glb", builder->model(), a.rest_vertices);
-      else write_file(base + ".obj", write_obj(a.rest_vertices, builder->model().faces(), builder->model().data().uv_coordinates,
-                                                  builder->model().data().uv_faces, "Caliper avatar, subject " + s.id));
-      write_file(base + ".json", avatar_report_json(builder->model(), a));
-      progress(++done, static_cast<int>(subjects.size()));
+    std::map<std::string, int> line_of_file;  // two ids may sanitise to one name
+    int done = 0, handled = 0;
+    for (const MeasurementRow& row : table.rows) {
+      try {
+        const std::optional<Sex> row_sex = row.set.sex ? row.set.sex : default_sex;
+        if (!row_sex)
+          throw Error(ErrorKind::InvalidArgument, "sex is not given: add a sex column (female or male) or --sex", "sex");
+        auto builder = builder_for(*row_sex);
+        AvatarRequest request;
+        request.measurements = measurements_from_edge(row.set.edge);
+        request.regressor = *regressor;
+        request.noise = row.set.measured_by.value_or("exact");
+        const Avatar a = builder->build(request);
+        std::string name = file_name_of(row.participant);
+        if (name.empty()) name = "line-" + std::to_string(row.line);
+        if (const auto [it, fresh] = line_of_file.emplace(name, row.line); !fresh) name += "-line-" + std::to_string(row.line);
+        const std::string base = *out + "/" + name;
+        if (*format == "glb") save_glb(base + ".glb", builder->model(), a.rest_vertices);
+        else write_file(base + ".obj", write_obj(a.rest_vertices, builder->model().faces(), builder->model().data().uv_coordinates,
+                                                    builder->model().data().uv_faces, "Caliper avatar, participant " + row.participant));
+        write_file(base + ".json", avatar_report_json(builder->model(), a));
+        ++done;
+      } catch (const Error& e) {
+        // A broken installation or output folder fails every row alike: stop at once.
+        if (e.from_installation() || e.kind() == ErrorKind::Io) throw;
+        table.skipped.push_back({row.line, e.field(), "line " + std::to_string(row.line) + ": " + e.what()});
+      }
+      progress(++handled, static_cast<int>(table.rows.size()));
     }
     std::cout << "wrote " << done << " avatars and reports to " << *out << "\n";
+    if (table.skipped.empty()) return;
+    std::sort(table.skipped.begin(), table.skipped.end(), [](const SkippedRow& a, const SkippedRow& b) { return a.line < b.line; });
+    std::cerr << "caliper: skipped " << table.skipped.size() << " row" << (table.skipped.size() == 1 ? "" : "s") << " of '"
+              << o->subjects << "':\n";
+    for (const SkippedRow& s : table.skipped) std::cerr << "  " << s.reason << "\n";
+    throw Finished{kSomeRowsSkipped};
   });
 }
 

@@ -19,7 +19,11 @@ namespace caliper::cli {
 
 void register_serve(CLI::App& app) {
   auto opts = std::make_shared<server::ServerOptions>();
-  opts->web_root = CALIPER_WEB_ROOT;
+  // An installed program serves its own copy of the page (share/caliper/web); a built one the
+  // source tree's web/dist.
+  const std::string installed = installed_data_dir();
+  opts->web_root = !installed.empty() && std::filesystem::is_directory(installed + "/web") ? installed + "/web"
+                                                                                          : CALIPER_WEB_ROOT;
   auto quiet = std::make_shared<bool>(false);
   auto no_warm_up = std::make_shared<bool>(false);
   auto data_dir = std::make_shared<std::string>();

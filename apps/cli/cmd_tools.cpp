@@ -3,6 +3,7 @@
 #include <thread>
 #include <iomanip>
 #include <iostream>
+#include <regex>
 #include <nlohmann/json.hpp>
 
 #include "caliper/body/crease.h"
@@ -206,6 +207,41 @@ void register_creases(CLI::App& model) {
 
 }  // namespace
 
+namespace {
+
+// Rounds a JSON document's numbers to 4 decimals (a fit's offset of -2.430762547713041 cm reads
+// -2.4308), recursively.
+void round_numbers(nlohmann::ordered_json& j) {
+  if (j.is_number_float()) j = std::round(j.get<double>() * 1e4) / 1e4 + 0.0;  // + 0.0: no "-0.0"
+  if (j.is_structured())  // (iterating a number would visit the number itself)
+    for (auto& item : j) round_numbers(item);
+}
+
+// Model metadata as people read it: JSON with its numbers rounded, and in plain text the
+// round-off residue of a fit (-8.35202e-14) written as the 0 it is.
+std::string tidy_numbers(const std::string& text) {
+  if (!text.empty() && text[0] == '{') {
+    auto j = nlohmann::ordered_json::parse(text, nullptr, false);
+    if (!j.is_discarded()) {
+      round_numbers(j);
+      return j.dump(2);
+    }
+  }
+  static const std::regex scientific(R"([-+]?[0-9]+(\.[0-9]+)?[eE][-+]?[0-9]+)");
+  std::string out;
+  auto begin = std::sregex_iterator(text.begin(), text.end(), scientific);
+  size_t last = 0;
+  for (auto it = begin; it != std::sregex_iterator(); ++it) {
+    out += text.substr(last, static_cast<size_t>(it->position()) - last);
+    const double v = std::strtod(it->str().c_str(), nullptr);
+    out += std::abs(v) < 1e-6 ? "0" : it->str();
+    last = static_cast<size_t>(it->position() + it->length());
+  }
+  return out + text.substr(last);
+}
+
+}  // namespace
+
 void register_model(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("model", "Inspect body models");
   cmd->require_subcommand(1);
@@ -242,7 +278,7 @@ void register_model(CLI::App& app) {
     std::cout << "\nmeasurements (" << d.measurements.size() << ")  ";
     for (const auto& md : d.measurements) std::cout << md.name << " ";
     std::cout << "\n";
-    for (const auto& [k, v] : d.metadata) std::cout << k << ": " << v << "\n";
+    for (const auto& [k, v] : d.metadata) std::cout << k << ": " << tidy_numbers(v) << "\n";
   });
   auto ansur = std::make_shared<std::string>("../shared/data/ansur2");
   auto out = std::make_shared<std::string>();
@@ -357,10 +393,14 @@ void register_isak(CLI::App& app) {
   auto values = std::make_shared<std::vector<double>>();
   CLI::App* cmd = app.add_subcommand("isak",
       "Combine repeated measurements by the ISAK rule: two within 1.5 % → their mean, else the median of three");
-  cmd->add_option("values", *values, "2 or 3 repetitions of one measurement (any unit)")
+  // At least one value for CLI11, so its help shows no "x 2"; two or three are checked here.
+  cmd->add_option("values", *values, "2 or 3 repetitions of one measurement (any unit), e.g. 171.2 170.4")
       ->required()
-      ->expected(2, 3);
+      ->expected(1, 3)
+      ->type_name("VALUE VALUE [VALUE]");
   cmd->callback([=] {
+    if (values->size() < 2)
+      throw CLI::ValidationError("values", "the ISAK rule needs 2 or 3 repetitions of one measurement, got 1");
     IsakResult r = isak_combine(*values);
     std::cout << std::fixed << std::setprecision(3) << "difference of the first two: " << r.relative_difference * 100 << " %\n";
     if (r.value) std::cout << "rule: " << to_string(r.rule) << "\nvalue: " << *r.value << "\n";

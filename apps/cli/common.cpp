@@ -90,7 +90,8 @@ std::pair<std::string, double> name_value(const std::string& kv, const std::stri
     v = std::stod(text, &used);
     if (used != text.size()) throw std::invalid_argument("trailing");
   } catch (const std::exception&) {
-    throw Error(ErrorKind::InvalidArgument, name + " must be a number, got '" + text + "'", name);
+    const std::string hint = value_hint(text);
+    throw Error(ErrorKind::InvalidArgument, name + " must be a number, got " + (hint.empty() ? "'" + text + "'" : hint), name);
   }
   return {name, v};
 }
@@ -138,14 +139,14 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
         throw Error(ErrorKind::InvalidArgument, info->name + " is given twice on the command line", info->name);
       edge[info->name] = v;
     } else {
-      edge[name] = v;  // unknown: measurements_from_edge names it
+      throw Error(ErrorKind::InvalidArgument, unknown_measurement_message(name, "--set"), name);
     }
   }
   std::map<std::string, double> noise_sd;  // SI
   for (const auto& kv : opts.noise_sd) {
     const auto [name, v] = name_value(kv, "--noise-sd");
     const MeasurementInfo* info = find_measurement_info(name);
-    if (!info) throw Error(ErrorKind::InvalidArgument, "unknown measurement '" + name + "' in --noise-sd", "--noise-sd");
+    if (!info) throw Error(ErrorKind::InvalidArgument, unknown_measurement_message(name, "--noise-sd"), "--noise-sd");
     if (!std::isfinite(v) || v <= 0 || v > 50)
       throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be in (0, 50] " + edge_unit(*info), info->name);
     noise_sd[info->name] = info->unit == Unit::Kilogram ? v : v / 100.0;
@@ -191,8 +192,7 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
   request.noise_sd = noise_sd;
   if (!opts.map_file.empty()) {
     // A user's own map replaces the model's default one.
-    RealToVirtual::load(opts.map_file).apply(request.measurements);
-    request.apply_model_maps = false;
+    request.maps = RealToVirtual::load(opts.map_file);
   }
   AvatarBuilder builder(out.model);
   out.avatar = builder.build(request);

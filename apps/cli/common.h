@@ -22,6 +22,12 @@ enum ExitCode : int {
   // it lacks), or a file of the installation itself (a model found by name) is broken.
   kCannotServe = 5,
   kSuspectValues = 6,  // values that look swapped or in the wrong unit (--force uses them as given)
+  kSomeRowsSkipped = 7,  // batch: the good rows were written, the bad ones listed on stderr and skipped
+};
+// Thrown by a command that did what it could and has already said why the rest failed: main
+// returns the code and prints nothing more.
+struct Finished {
+  int code;
 };
 int exit_code_for(const Error& e);
 
@@ -54,6 +60,16 @@ struct BuiltAvatar {
 BuiltAvatar build_avatar(const BodyOptions& opts);
 
 void write_file(const std::string& path, const std::string& bytes);
+
+// After CLI11 refused the command line: on stderr, "did you mean --height" for a misspelt option
+// and a hint for a value typed with its unit (165cm) or a decimal comma (165,5).
+void explain_parse_error(const CLI::App& app, int argc, char** argv);
+// "165cm", "62 kg" → a hint that units are implied; "165,5" → use a dot; "" for anything else.
+std::string value_hint(const std::string& text);
+// "--set: unknown measurement 'chest'; did you mean chest_height, …? The accepted names: …".
+std::string unknown_measurement_message(const std::string& name, const std::string& option);
+// The names closest to `word` (sharing a part of it, or a typing slip away), best first.
+std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& names);
 
 // A progress bar on stderr for long work: redrawn in place on a terminal, a line per 10 % otherwise.
 std::function<void(int, int)> progress_bar(const std::string& label);

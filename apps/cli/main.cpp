@@ -1,4 +1,6 @@
 // caliper — measurements in, rigged avatars out. See `caliper --help` and docs/cli.md.
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "common.h"
@@ -8,6 +10,17 @@ int main(int argc, char** argv) {
                "Lengths are in centimetres and weight in kilograms at the command line."};
   app.set_version_flag("--version", std::string("caliper ") + CALIPER_CLI_VERSION);
   app.require_subcommand(1);
+  // Before any command runs, so every model lookup (library and server alike) sees it.
+  app.add_option_function<std::string>(
+         "--models",
+         [](const std::string& dir) {
+           if (!std::filesystem::is_directory(dir))
+             throw CLI::ValidationError("--models", "there is no folder '" + dir + "'");
+           ::setenv("CALIPER_MODELS_DIR", dir.c_str(), 1);
+         },
+         "folder of the body models found by name (default: $CALIPER_MODELS_DIR, else the installation's "
+         "share/caliper/models; docs/cli.md)")
+      ->type_name("DIR");
   app.fallthrough(false);
   caliper::cli::register_avatar(app);
   caliper::cli::register_render(app);
@@ -28,7 +41,10 @@ int main(int argc, char** argv) {
       return caliper::cli::kUsage;
     }
     const int code = app.exit(e);
+    if (code != 0) caliper::cli::explain_parse_error(app, argc, argv);
     return code == 0 ? 0 : caliper::cli::kUsage;
+  } catch (const caliper::cli::Finished& f) {
+    return f.code;
   } catch (const caliper::Error& e) {
     std::cerr << "caliper: " << e.what() << "\n";
     if (e.from_installation())

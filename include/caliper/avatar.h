@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "caliper/body/body_model.h"
@@ -32,6 +33,9 @@ struct AvatarRequest {
   // measurements before regressing: they are real measurements of a person, the regressor
   // needs what the avatar's rest pose shows (e.g. arm length taken with the arm hanging).
   bool apply_model_maps = true;
+  // Maps to apply instead of the model's own (a user's file from `caliper map fit`); used only
+  // when apply_model_maps is true.
+  std::optional<RealToVirtual> maps;
   // Measure only these on the avatar (empty: every measurement the model knows). Evaluation
   // uses it to skip the sections it does not compare.
   std::vector<std::string> measure_only;
@@ -46,10 +50,10 @@ struct Avatar {
   Vertices rest_vertices;                      // N×3
   Eigen::MatrixX3d joints;                     // J×3
   Plausibility plausibility;
-  std::map<std::string, double> requested;     // SI, as given
+  std::map<std::string, double> requested;     // SI, as given (measured on the person)
   std::map<std::string, double> targets;       // SI, after real → virtual maps (what was regressed on)
-  RealToVirtual model_maps;                    // the model's maps (identity where it has none)
-  std::map<std::string, double> achieved;      // SI, every measurement the model knows (or measure_only)
+  RealToVirtual real_to_virtual;               // the maps applied to `requested` (identity when none were)
+  std::map<std::string, double> achieved;      // SI, the rest-pose body's own, every measurement the model knows
   // Only from "map" (empty otherwise): the noise setting used, the posterior SD of β's
   // measurements (SI, keyed like `achieved`), of each vertex (N, metres, √trace of its 3×3
   // covariance), the K×K covariance of β, how each input fitted.
@@ -93,9 +97,20 @@ class AvatarBuilder {
   MapEstimator map_;  // const and thread-safe: no lock needed
 
   Avatar build_map(const AvatarRequest& request) const;
+  void apply_maps(const AvatarRequest& request, Avatar& avatar) const;  // real_to_virtual and targets
   void finish(const AvatarRequest& request, Avatar& avatar) const;  // body, joints, plausibility, measurements
   void warn_about_inputs(Avatar& avatar) const;  // given values unused or not reached (regressor paths)
 };
+
+// A measurement of the avatar as a person would take it (SI): its rest-pose value mapped back
+// through the real → virtual map that was applied (arm length with the arm hanging, paper §3.3),
+// the rest-pose value itself for every measurement without a map. This is what `requested` is
+// compared with. `rest_pose_value` is `avatar.achieved.at(name)`.
+double as_measured(const Avatar& avatar, const std::string& name, double rest_pose_value);
+// The same for a posterior SD (scaled by the map's slope).
+double sd_as_measured(const Avatar& avatar, const std::string& name, double rest_pose_sd);
+// Whether `name`'s rest-pose value differs from what a person measures (a non-identity map applied).
+bool measured_differs_from_rest_pose(const Avatar& avatar, const std::string& name);
 
 // Checks and converts user-edge values (cm, kg; names or aliases) into a request's SI map.
 // Throws Error naming the field and accepted range for NaN, negatives and absurd values.

@@ -1,5 +1,6 @@
-// The JSON report of an avatar (README "Report format"): model, sex, regressor, β, plausibility,
-// and every measurement the model knows, requested beside achieved, in cm and kg; "warnings";
+// The JSON report of an avatar (docs/cli.md "Report format"): model, sex, regressor, β, plausibility,
+// and every measurement the model knows, requested beside achieved, in cm and kg, as a person
+// measures them (a mapped measurement adds its rest-pose value, "rest_pose_cm"); "warnings";
 // with the "map" estimator also "uncertainty_cm"/"uncertainty_kg" per measurement (posterior SD)
 // and an "uncertainty" object (noise setting, per-input fit, β SDs, vertex SD summary).
 #pragma once

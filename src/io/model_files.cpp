@@ -541,9 +541,21 @@ BodyModel load_smpl_model(const std::string& path, const SmplLoadOptions& option
   return gate("'" + path + "'", "model", [&] { return read_smpl_model(path, options); });
 }
 
+std::string installed_data_dir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);  // Linux; elsewhere: not installed
+  if (ec || exe.empty()) return "";
+  const fs::path share = exe.parent_path().parent_path() / "share" / "caliper";
+  return fs::is_directory(share, ec) ? share.string() : "";
+}
+
 std::string models_dir() {
   const char* env = std::getenv("CALIPER_MODELS_DIR");
   if (env && *env) return env;
+  if (const std::string share = installed_data_dir(); !share.empty()) {
+    std::error_code ec;
+    if (fs::is_directory(fs::path(share) / "models", ec)) return (fs::path(share) / "models").string();
+  }
   return CALIPER_MODELS_DIR;
 }
 

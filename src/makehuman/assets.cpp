@@ -424,9 +424,27 @@ Rig read_rig(const std::string& dir, const BaseMesh& mesh, const std::string& na
 }
 
 namespace {
+// The assets folder inside what a user downloads, taken as it comes: the data folder itself, a
+// clone of the MPFB2 repository (its data is src/mpfb/data), or an unpacked archive that wraps
+// either in one folder (mpfb2-master/). The first with 3dobjs/base.obj; `dir` itself otherwise,
+// so the checks below say what is missing there.
+fs::path find_assets_root(const fs::path& dir) {
+  std::error_code ec;
+  std::vector<fs::path> bases = {dir};
+  std::vector<fs::path> subfolders;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory(ec)) subfolders.push_back(it->path());
+  if (subfolders.size() == 1) bases.push_back(subfolders.front());
+  for (const fs::path& base : bases)
+    for (const fs::path& candidate : {base, base / "src" / "mpfb" / "data", base / "mpfb" / "data", base / "data"})
+      if (fs::is_regular_file(candidate / "3dobjs" / "base.obj", ec)) return candidate;
+  return dir;
+}
+
 // The reader itself; the public function below is its gate.
-Assets load_assets_folder(const std::string& dir, const LoadOptions& options) {
-  const fs::path root(dir);
+Assets load_assets_folder(const std::string& given, const LoadOptions& options) {
+  const fs::path root = find_assets_root(given);
+  const std::string dir = root.string();
   require_dir(root, "a MakeHuman assets folder");
   for (const char* sub : {"3dobjs", "mesh_metadata", "targets/macrodetails", "rigs/standard"})
     require_dir(root / sub, std::string("its ") + sub + " folder");

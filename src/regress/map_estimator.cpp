@@ -119,7 +119,19 @@ std::pair<const char*, const char*> comparatives(MeasurementKind kind) {
 
 }  // namespace
 
-std::vector<std::string> describe_drivers(const BodyModel& model, const std::map<std::string, MapInputFit>& fits) {
+namespace {
+// A value in the words' terms (MapOptions::as_measured), and an SD around `at` likewise.
+std::string said(const std::function<double(const std::string&, double)>& as_measured, const std::string& name, double v) {
+  return edge_text(name, as_measured ? as_measured(name, v) : v);
+}
+std::string said_sd(const std::function<double(const std::string&, double)>& as_measured, const std::string& name,
+                    double at, double sd) {
+  return edge_text(name, as_measured ? std::abs(as_measured(name, at + sd) - as_measured(name, at)) : sd);
+}
+}  // namespace
+
+std::vector<std::string> describe_drivers(const BodyModel& model, const std::map<std::string, MapInputFit>& fits,
+                                          const std::function<double(const std::string&, double)>& as_measured) {
   constexpr double kNotable = 2.0;
   std::vector<std::pair<double, std::string>> found;
   for (const auto& [name, fit] : fits) {
@@ -130,14 +142,15 @@ std::vector<std::string> describe_drivers(const BodyModel& model, const std::map
     s.setf(std::ios::fixed);
     s.precision(1);
     if (std::abs(fit.population_z) >= kNotable) {
-      s << name << " " << edge_text(name, fit.value) << " is " << std::abs(fit.population_z) << " SD "
-        << (fit.population_z > 0 ? "above" : "below") << " the population's average (" << edge_text(name, fit.population_mean) << ")";
+      s << name << " " << said(as_measured, name, fit.value) << " is " << std::abs(fit.population_z) << " SD "
+        << (fit.population_z > 0 ? "above" : "below") << " the population's average ("
+        << said(as_measured, name, fit.population_mean) << ")";
       found.emplace_back(std::abs(fit.population_z), s.str());
       s.str("");
     }
     if (std::abs(fit.z) >= kNotable) {
-      s << name << " " << edge_text(name, fit.value) << " is " << std::abs(fit.z) << " SD " << (fit.z > 0 ? more : less)
-        << " than the other measurements suggest (" << edge_text(name, fit.expected) << ")";
+      s << name << " " << said(as_measured, name, fit.value) << " is " << std::abs(fit.z) << " SD "
+        << (fit.z > 0 ? more : less) << " than the other measurements suggest (" << said(as_measured, name, fit.expected) << ")";
       found.emplace_back(std::abs(fit.z), s.str());
     }
   }
@@ -211,7 +224,8 @@ MapEstimate MapEstimator::solve_within_population(const std::map<std::string, do
   for (const auto& [name, fit] : est.inputs) {
     const bool kg = model_->find_measurement(name)->kind == MeasurementKind::Weight;
     if (std::abs(fit.fitted - fit.value) <= std::max(fit.noise_sd, kg ? 0.5 : 0.005)) continue;
-    s << sep << name << " " << edge_text(name, fit.fitted) << " (given " << edge_text(name, fit.value) << ")";
+    s << sep << name << " " << said(options.as_measured, name, fit.fitted) << " (given "
+      << said(options.as_measured, name, fit.value) << ")";
     sep = ", ";
   }
   est.warnings.insert(est.warnings.begin(), s.str());
@@ -441,9 +455,10 @@ MapEstimate MapEstimator::solve(const std::map<std::string, double>& values, con
     s.setf(std::ios::fixed);
     s.precision(1);
     s << (c == 0 ? "" : "also: ") << name << " is " << std::abs(fit.z) << " SD " << (fit.z > 0 ? more : less)
-      << " than the other measurements and the body model's population allow (given " << edge_text(name, fit.value)
-      << "; they suggest " << edge_text(name, fit.expected) << " ± " << edge_text(name, fit.expected_sd)
-      << "); the avatar reconciles it at " << edge_text(name, fit.fitted);
+      << " than the other measurements and the body model's population allow (given "
+      << said(options.as_measured, name, fit.value) << "; they suggest " << said(options.as_measured, name, fit.expected)
+      << " ± " << said_sd(options.as_measured, name, fit.expected, fit.expected_sd) << "); the avatar reconciles it at "
+      << said(options.as_measured, name, fit.fitted);
     if (fit.effective_sd > 2 * fit.noise_sd) s << ", treating it as a probable measurement error";
     est.warnings.push_back(s.str());
   }

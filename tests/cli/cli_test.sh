@@ -388,8 +388,9 @@ says "beta[1]" "the message names the shape value"
 expect 3 "a measurement given twice" "$CALIPER" avatar --height 170 --weight 60 --set stature=180 -o "$TMP/t.obj"
 says "stature is given twice" "and names it"
 printf 'SubjectId,stature,weightkg,span,crotchheight,hipbreadth,acromionradialelength,radialestylionlength,Gender\n1,165,600,1700,780,350,310,240,Female\n' >"$TMP/cm.csv"
-expect 3 "batch on a file in centimetres" "$CALIPER" batch --subjects "$TMP/cm.csv" --out "$TMP/cmout"
-says "cm.csv:2: stature = 16.5 cm is outside the accepted range" "names file, line and range"
+expect 7 "batch on a file in centimetres skips its row" "$CALIPER" batch --subjects "$TMP/cm.csv" --out "$TMP/cmout"
+says "cm.csv" "names the file"
+says "line 2: stature = 16.5 cm is outside the accepted range [50, 250] cm (ANSUR II files give lengths in millimetres" "names line, range and the layout's units"
 expect 3 "eval on it" "$CALIPER" eval --subjects "$TMP/cm.csv"
 printf '{"format": "caliper-measurements", "sex": "neutral", "measurements": {"stature": 170, "weight": 65}}\n' >"$TMP/neutral.json"
 expect 0 "a neutral measurement set" "$CALIPER" avatar --measurements "$TMP/neutral.json" -o "$TMP/n.obj"
@@ -410,7 +411,28 @@ expect 3 "a mesh in centimetres" "$CALIPER" measure --mesh "$TMP/her-cm.obj"
 says "read in metres" "the message says which unit"
 expect 3 "render --mesh with a pose" "$CALIPER" render --mesh "$TMP/her.obj" --pose a -o "$TMP/r.png"
 expect 0 "R6 with an arm length" "$CALIPER" avatar --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 --arm-length 58 -o "$TMP/r6.obj"
-says "arm_length 58.00 cm on a person is" "the table says what the avatar was asked for"
+says "arm_length is given as a person measures it" "the table explains the rest-pose value once"
+# The table's arm length is the one measured: requested 58.00, Δ = achieved − requested.
+cp "$TMP/out" "$TMP/r6-table.txt"
+expect 0 "the arm length row compares like with like" awk '$1 == "arm_length" { found = 1; if ($2 != "58.00" || ($6 - ($4 - $2)) ^ 2 > 0.0001) exit 1 } END { exit !found }' "$TMP/r6-table.txt"
+# The report's achieved arm length is the rest-pose one mapped back through the model's own map
+# (read from `model info --json`), and the difference is taken from the measured value.
+expect 0 "R6 with an arm length, report" "$CALIPER" avatar --height 165 --weight 62 --arm-span 167 --inseam 78 --hip-width 36 --arm-length 58 -o "$TMP/r6.obj" --report "$TMP/r6.json" -q
+# Warnings and drivers say the arm length as it was given (70 cm), not its rest-pose value.
+expect 0 "an arm length that contradicts the rest" "$CALIPER" avatar --height 165 --weight 62 --arm-length 70 --noise self -o "$TMP/arm.obj" --report "$TMP/arm.json" -q
+says "(given 70.0 cm;" "the warning names the value as given"
+expect 0 "the warning's reconciled value is the report's achieved arm length" node -e '
+  const r = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8")), a = r.measurements.arm_length;
+  const m = /reconciles it at ([0-9.]+) cm/.exec(r.warnings.join(" "));
+  process.exit(m && Math.abs(Number(m[1]) - a.achieved_cm) < 0.06 && r.plausibility.drivers.some((d) => d.startsWith("arm_length 70.0 cm")) ? 0 : 1)' "$TMP/arm.json"
+expect 0 "model info as JSON" bash -c "'$CALIPER' model info mannequin --sex female --json > '$TMP/info.json'"
+expect 0 "the report's arm length is as measured, the rest pose beside it" node -e '
+  const fs = require("fs"), r = JSON.parse(fs.readFileSync(process.argv[1], "utf8")), info = JSON.parse(fs.readFileSync(process.argv[2], "utf8"));
+  const map = JSON.parse(info.metadata.real_to_virtual).maps.arm_length, a = r.measurements.arm_length;
+  const near = (x, y) => Math.abs(x - y) < 0.01;
+  process.exit(a.requested_cm === 58 && near(a.difference_cm, a.achieved_cm - 58) &&
+    near(a.rest_pose_cm, map.slope * a.achieved_cm + map.offset_cm) && near(a.rest_pose_target_cm, map.slope * 58 + map.offset_cm) &&
+    !("rest_pose_cm" in r.measurements.stature) && typeof r.rest_pose_note === "string" ? 0 : 1)' "$TMP/r6.json" "$TMP/info.json"
 expect 2 "a mistyped command" "$CALIPER" avatr --height 170
 says "unknown command 'avatr'" "is named"
 expect 3 "render to a .jpg name" "$CALIPER" render --height 170 --weight 60 -o "$TMP/r.jpg"
@@ -422,6 +444,114 @@ says "available: mannequin" "names the models found"
 printf '{' >"$TMP/broken-profiles.json"
 expect 4 "serve with a broken profiles file" "$CALIPER" serve --port 0 --no-warm-up --data "$TMP/srv" --capture-profiles "$TMP/broken-profiles.json"
 says "--capture-profiles" "names the option"
+
+# ---------------------------------------------------------------------------------------------
+# Input as people type it: suggestions for a misspelt option, hints for units and decimal commas.
+expect 2 "a misspelt option" "$CALIPER" avatar --heigth 170 --weight 60 -o "$TMP/a.glb"
+says "did you mean --height?" "suggests the option"
+expect 2 "a misspelt option of a nested command" "$CALIPER" model info mannequin --sx male
+says "did you mean --sex?" "suggests the nested command's option"
+expect 2 "a height with its unit" "$CALIPER" avatar --height 165cm --weight 60 -o "$TMP/a.glb"
+says "write the number alone" "hints that units are implied"
+expect 2 "a height with a decimal comma" "$CALIPER" avatar --height 165,5 --weight 60 -o "$TMP/a.glb"
+says "use a dot for decimals: 165.5" "hints at the decimal point"
+expect 3 "an unknown --set name" "$CALIPER" avatar --height 170 --weight 60 --set chest=96 -o "$TMP/a.glb"
+says "did you mean" "suggests names"
+says "chest_circumference" "among them the chest's circumference"
+says "The accepted names:" "lists the accepted names"
+expect 3 "a --set value with its unit" "$CALIPER" avatar --height 170 --weight 60 --set chest_circumference=96cm -o "$TMP/a.glb"
+says "write the number alone" "hints that units are implied"
+expect 0 "isak help" "$CALIPER" isak --help
+says "2 or 3 repetitions" "isak's help says it takes two or three values"
+if grep -q "x 2" "$TMP/out"; then failed=$((failed + 1)); echo "FAIL: isak's help still says x 2"; else passed=$((passed + 1)); fi
+if command -v python3 >/dev/null; then
+  # model info rounds what a model's metadata holds: a fit's round-off residue and long decimals.
+  python3 - "$SRC/models/mannequin-female.npz" "$TMP/noisy-meta.npz" <<'PY'
+import json, struct, sys, zipfile
+def npy_unicode(text):
+    header = ("{'descr': '<U%d', 'fortran_order': False, 'shape': (), }" % max(1, len(text))).encode()
+    header += b" " * ((64 - (10 + len(header) + 1) % 64) % 64) + b"\n"
+    return b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header + text.encode("utf-32-le")
+with zipfile.ZipFile(sys.argv[1]) as src, zipfile.ZipFile(sys.argv[2], "w", zipfile.ZIP_DEFLATED) as out:
+    for name in src.namelist():
+        data = src.read(name)
+        if name == "metadata.npy":
+            header_len = struct.unpack("<H", data[8:10])[0]
+            meta = json.loads(data[10 + header_len:].decode("utf-32-le").rstrip("\0"))
+            meta["real_to_virtual_fits"] = "span: virtual = 1 * real + -8.35202e-14 cm (rmse 3.1e-15 cm)"
+            data = npy_unicode(json.dumps(meta))
+        out.writestr(name, data)
+PY
+  expect 0 "model info of a model with float noise in its metadata" "$CALIPER" model info "$TMP/noisy-meta.npz"
+  says "virtual = 1 * real + 0 cm (rmse 0 cm)" "prints the residue as 0"
+  says '"offset_cm": ' "prints the model's map"
+  if grep -E '"[a-z_]+": -?[0-9]+\.[0-9]{5,}' "$TMP/out"; then failed=$((failed + 1)); echo "FAIL: the map's numbers are not rounded"; else passed=$((passed + 1)); fi
+fi
+expect 2 "isak with one value" "$CALIPER" isak 170
+expect 0 "isak with three values" "$CALIPER" isak 170 175 171
+says "value: 171" "takes the median of three"
+
+# Measurement sets as spreadsheets write them: the long layout with ';' and decimal commas, a
+# quoted decimal comma in a comma file, the wide layout (one row), each giving the same avatar.
+printf 'measurement;value;unit\nsex;male;\nstature;180,5;cm\nweight;82;kg\n' >"$TMP/semicolon.csv"
+printf 'measurement,value,unit\nsex,male,\nstature,"180,5",cm\nweight,82,kg\n' >"$TMP/quoted.csv"
+printf 'id;Sex;Height (cm);Weight (kg)\nP01;male;180,5;82\n' >"$TMP/wide-one.csv"
+for f in semicolon quoted wide-one; do
+  expect 0 "a $f measurement set" "$CALIPER" avatar --measurements "$TMP/$f.csv" -o "$TMP/$f.obj" --report "$TMP/$f.json" -q
+  expect 0 "the $f set gives a 180.5 cm man" node -e '
+    const r = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8"));
+    process.exit(r.sex === "male" && r.measurements.stature.requested_cm === 180.5 && r.measurements.weight.requested_kg === 82 ? 0 : 1)' "$TMP/$f.json"
+done
+printf 'measurement,value,unit\nstature,180,5,cm\nweight,82,kg\n' >"$TMP/unquoted.csv"
+expect 4 "an unquoted decimal comma in a comma file" "$CALIPER" avatar --measurements "$TMP/unquoted.csv" -o "$TMP/a.glb"
+says "must be quoted" "says how to write it"
+printf 'id,sex,height,weight\nA,female,165,60\nB,female,170,65\n' >"$TMP/wide-two.csv"
+expect 4 "a measurement set of two people" "$CALIPER" avatar --measurements "$TMP/wide-two.csv" -o "$TMP/a.glb"
+says "caliper batch" "points to batch"
+
+# batch on a plain spreadsheet: header names and aliases, cm and kg, an id column; bad rows are
+# skipped and listed (line, field, accepted range), good ones written under their ids.
+cat >"$TMP/people.csv" <<'CSV'
+participant;sex;height;weight;arm span;inseam;Hip width (cm);notes
+P-001;female;165,0;62;167;76;36;first
+P-002;male;180;82;184;84;35;
+../evil;female;160;55;;;;path in the id
+P-004;female;165;600;;;;weight in hectograms
+P-005;robot;170;70;;;;
+P-006;female;1,70;65;;;;height in metres
+P-001;male;175;70;;;;the id again
+P-008;female;165cm;60;;;;
+CSV
+expect 7 "batch on a spreadsheet with bad rows" "$CALIPER" batch --subjects "$TMP/people.csv" --out "$TMP/people"
+says "wrote 3 avatars" "the good rows are written"
+says "skipped 5 rows" "the bad rows are counted"
+says "line 5: weight" "a bad weight names its line and field"
+says "[10, 300] kg" "and the accepted range"
+says "line 6: sex must be female, male or neutral" "a bad sex names its line"
+says "line 7: stature" "a height in metres names its line and field"
+says "[50, 250] cm" "and the accepted range"
+says "participant 'P-001' is already on line 2" "a repeated id is refused"
+says "line 9: the value of stature is not a number ('165cm')" "a unit typed into a cell names it"
+for f in P-001 P-002 _._evil; do
+  expect 0 "batch wrote $f.glb and $f.json" test -s "$TMP/people/$f.glb" -a -s "$TMP/people/$f.json"
+done
+expect 0 "nothing was written outside the output folder" bash -c "! ls '$TMP' | grep -qx evil.glb && [ \$(ls '$TMP/people' | wc -l) = 6 ]"
+expect 0 "each avatar is its row's person" node -e '
+  const fs = require("fs"), r = (f) => JSON.parse(fs.readFileSync(process.argv[1] + "/" + f + ".json", "utf8"));
+  const a = r("P-001"), b = r("P-002"), c = r("_._evil"), m = (x, k) => x.measurements[k];
+  process.exit(a.sex === "female" && m(a, "stature").requested_cm === 165 && m(a, "hip_breadth").requested_cm === 36 &&
+    m(a, "span").requested_cm === 167 && b.sex === "male" && m(b, "crotch_height").requested_cm === 84 &&
+    m(c, "stature").requested_cm === 160 && !("requested_cm" in m(c, "span")) ? 0 : 1)' "$TMP/people"
+expect 0 "batch on the README's example spreadsheet" "$CALIPER" batch --subjects "$SRC/examples/participants.csv" --out "$TMP/example"
+expect 0 "one avatar and report per participant" test -s "$TMP/example/P-003.glb" -a -s "$TMP/example/P-003.json" -a -s "$TMP/example/P-001.json"
+printf 'id,height,weight\nA,165,60\n' >"$TMP/nosex.csv"
+expect 7 "batch rows without a sex" "$CALIPER" batch --subjects "$TMP/nosex.csv" --out "$TMP/nosex"
+says "add a sex column" "says how to give it"
+expect 0 "batch rows without a sex, --sex given" "$CALIPER" batch --subjects "$TMP/nosex.csv" --out "$TMP/nosex" --sex female
+expect 0 "named after the id" test -s "$TMP/nosex/A.glb"
+printf 'id,sex,height,weight,chest circ\nA,female,165,60,90\n' >"$TMP/unknown-column.csv"
+expect 4 "batch with an unknown column" "$CALIPER" batch --subjects "$TMP/unknown-column.csv" --out "$TMP/unknown"
+says "column 'chest circ'" "names the column"
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

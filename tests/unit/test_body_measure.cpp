@@ -161,6 +161,40 @@ TEST(Plausibility, ChiSquareTailMatchesTables) {
   EXPECT_NEAR(chi_square_tail(25, 44.314), 0.01, 1e-4);
 }
 
+// A real → virtual map (paper §3.3): the avatar is built for the mapped (rest-pose) value, and
+// the report compares what a person measures: achieved maps back through the same map.
+TEST(Avatar, ReportGivesMappedMeasurementsAsAPersonMeasuresThem) {
+  auto model = std::make_shared<const BodyModel>(test::toy_model());
+  AvatarBuilder builder(model);
+  AvatarRequest req;
+  req.measurements = measurements_from_edge({{"height", 175}, {"weight", 120}});
+  req.regressor = "R2";
+  RealToVirtual maps;
+  maps.set("stature", LinearMap{1.1, -0.1});  // rest pose = 1.1 · 175 cm − 10 cm = 182.5 cm
+  req.maps = maps;
+  const Avatar a = builder.build(req);
+  EXPECT_NEAR(a.achieved.at("stature"), 1.825, 1e-6) << "the body is built for the rest-pose value";
+  EXPECT_NEAR(as_measured(a, "stature", a.achieved.at("stature")), 1.75, 1e-6);
+  EXPECT_TRUE(measured_differs_from_rest_pose(a, "stature"));
+  EXPECT_FALSE(measured_differs_from_rest_pose(a, "weight"));
+  const auto j = nlohmann::json::parse(avatar_report_json(*model, a));
+  const auto& s = j["measurements"]["stature"];
+  EXPECT_NEAR(s["requested_cm"].get<double>(), 175.0, 1e-9);
+  EXPECT_NEAR(s["achieved_cm"].get<double>(), 175.0, 1e-3);
+  EXPECT_NEAR(s["difference_cm"].get<double>(), 0.0, 1e-3);
+  EXPECT_NEAR(s["rest_pose_cm"].get<double>(), 182.5, 1e-3);
+  EXPECT_NEAR(s["rest_pose_target_cm"].get<double>(), 182.5, 1e-3);
+  EXPECT_FALSE(j["measurements"]["weight"].contains("rest_pose_kg"));
+  EXPECT_TRUE(j.contains("rest_pose_note"));
+  // Without maps nothing differs and the report says nothing about a rest pose.
+  req.apply_model_maps = false;
+  const Avatar plain = builder.build(req);
+  EXPECT_NEAR(plain.achieved.at("stature"), 1.75, 1e-6);
+  const auto k = nlohmann::json::parse(avatar_report_json(*model, plain));
+  EXPECT_FALSE(k["measurements"]["stature"].contains("rest_pose_cm"));
+  EXPECT_FALSE(k.contains("rest_pose_note"));
+}
+
 TEST(Avatar, BuildsAndReportsRequestedBesideAchieved) {
   auto model = std::make_shared<const BodyModel>(test::toy_model());
   AvatarBuilder builder(model);

@@ -167,6 +167,25 @@ TEST(MakeHumanFiles, WrongFolderAndMissingFileAreClearErrors) {
   EXPECT_NE(message.find("base.obj"), std::string::npos) << message;
 }
 
+// The download as it comes: an unpacked archive of the MPFB2 repository, whose data folder is
+// mpfb2-master/src/mpfb/data, gives the same assets as the data folder itself.
+TEST(MakeHumanFiles, AcceptsTheRepositoryDownloadAsItComes) {
+  REQUIRE_ASSETS();
+  test::TempDir dir;
+  const auto data = dir.path / "mpfb2-master" / "src" / "mpfb" / "data";
+  std::filesystem::create_directories(data.parent_path());
+  std::filesystem::create_directory_symlink(std::filesystem::absolute(assets_dir()), data);
+  std::filesystem::create_directories(dir.path / "mpfb2-master" / "docs");  // a repository has more than its data
+  const Assets direct = load_assets(assets_dir());
+  for (const auto& given : {dir.path, dir.path / "mpfb2-master"}) {
+    const Assets found = load_assets(given.string());
+    EXPECT_EQ(std::filesystem::path(found.dir), data) << given;
+    EXPECT_EQ(found.mesh.vertices.rows(), direct.mesh.vertices.rows()) << given;
+    EXPECT_EQ(found.macro_targets.size(), direct.macro_targets.size()) << given;
+    EXPECT_EQ(found.modifier_targets.size(), direct.modifier_targets.size()) << given;
+  }
+}
+
 // Audit (docs/reliability.md): read_rig indexed missing keys of a const JSON object (undefined
 // behaviour), let nlohmann's type_error escape for a wrong type, and cast 1e300 to int. Each is
 // now Error(Format) naming the bone and key; a small rig on a four-vertex mesh shows it.

@@ -788,20 +788,14 @@ function renderTable(report) {
     tr.className = cls;
     tr.dataset.name = name;
     const dcls = diff === null ? '' : Math.abs(diff) < 0.5 ? 'small' : Math.abs(diff) >= 1 ? 'large' : '';
-    // A real → virtual map (paper §3.3) turns e.g. a hanging-arm length into its rest-pose
-    // equivalent; the regressor aims at that, so the difference is taken from it.
-    const target = value(m, 'virtual_target');
-    // For a mapped measurement that was not requested, show what a person would measure (the
-    // real equivalent), with the avatar's own rest-pose value in the note.
-    const real = value(m, 'real_equivalent');
-    const shownAch = req === null && real !== null ? real : ach;
-    const note = target !== null
-      ? `<span class="note">rest-pose target ${shown(name, target)} ${u} (§3.3 map)</span>`
-      : req === null && real !== null ? `<span class="note">as measured on a person; ${shown(name, ach)} ${u} in the rest pose (§3.3 map)</span>` : '';
+    // Values are as a person measures them; a real → virtual map (paper §3.3) makes the avatar's
+    // own rest-pose value differ (arm length): shown once, as a note.
+    const restPose = value(m, 'rest_pose');
+    const note = restPose === null ? '' : `<span class="note">as measured on a person; ${shown(name, restPose)} ${u} in the T-pose rest pose (§3.3 map)</span>`;
     const shownReq = cls === 'predicted' ? null : req;
     tr.innerHTML = `<td title="${state.info.get(name)?.label ?? name}">${friendly(name)}${note}</td>
       <td>${shownReq === null ? '—' : `${shown(name, shownReq)} ${u}`}</td>
-      <td>${shownAch === null ? '—' : `${shown(name, shownAch)} ${u}`}</td>
+      <td>${ach === null ? '—' : `${shown(name, ach)} ${u}`}</td>
       <td class="delta ${dcls}">${diff === null || cls === 'predicted' ? '' : `${diff >= 0 ? '+' : '−'}${Math.abs(diff * f).toFixed(2)}`}</td>
       <td class="sd">${sdCell(value(m, 'uncertainty'), f, u)}</td>`;
     tbody.appendChild(tr);

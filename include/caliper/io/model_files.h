@@ -34,7 +34,14 @@ BodyModel load_model(const std::string& name_or_path, Sex sex);
 // landmarks/smpl.json, compiled into the library so installed binaries need no data folder.
 const std::string& smpl_landmarks_json();
 
-// Folder holding the committed models: $CALIPER_MODELS_DIR, else the build-time default.
+// Folder of the models found by name (docs/cli.md "Where Caliper finds its files"):
+// $CALIPER_MODELS_DIR if set, else `share/caliper/models` of the running program's installation
+// (installed_data_dir), else the source tree's `models/` it was built from.
 std::string models_dir();
+
+// `<prefix>/share/caliper` of an installed program, found from the running executable's own path
+// (`<prefix>/bin/…`, so a moved installation still finds it); "" when the program does not run
+// from such a tree (e.g. from the build folder).
+std::string installed_data_dir();
 
 }  // namespace caliper

@@ -87,7 +87,10 @@ struct LoadOptions {
   bool skip_baby = true;
 };
 
-// Loads everything the builder needs from an MPFB2-layout folder. Throws Error(Io) naming the
+// Loads everything the builder needs from an MPFB2-layout folder: the data folder itself
+// (3dobjs/, mesh_metadata/, targets/, rigs/), a clone of the MPFB2 repository (its data is
+// src/mpfb/data) or an unpacked archive of it (one wrapping folder); `Assets::dir` is the data
+// folder found. Throws Error(Io) naming the
 // path for a missing folder or file (and says what a right folder contains), Error(Format) for
 // a damaged file. A target that reads cleanly but has far fewer entries than its siblings
 // (truncated at the source) is skipped and listed in `problems` rather than trusted.

@@ -60,6 +60,10 @@ struct MapOptions {
   // common factor, the least that brings β̂ inside: the closest body the population holds,
   // weighed as the inputs were, with a warning saying so.
   std::function<bool(const Eigen::VectorXd& beta)> within_population;
+  // How a person reads a value of a measurement (SI → SI), for the words only: warnings say a
+  // value the model takes in another posture (arm length through a real → virtual map, paper
+  // §3.3) as it was measured. Empty: as the model measures it. `inputs` stay in the model's terms.
+  std::function<double(const std::string& name, double value)> as_measured;
 };
 
 struct MapInputFit {
@@ -93,7 +97,9 @@ struct MapEstimate {
 // population's average ("stature 160.0 cm is 2.6 SD below the population's average (162.9 cm)")
 // and inputs the others contradict ("span 200.0 cm is 4.2 SD longer than the other
 // measurements suggest (182.4 cm)"). Empty when nothing stands out.
-std::vector<std::string> describe_drivers(const BodyModel& model, const std::map<std::string, MapInputFit>& fits);
+// `as_measured` as in MapOptions.
+std::vector<std::string> describe_drivers(const BodyModel& model, const std::map<std::string, MapInputFit>& fits,
+                                          const std::function<double(const std::string&, double)>& as_measured = {});
 
 // Holds what is fixed per model (its measurements, linearised at the mean body on first use);
 // const and thread-safe.
