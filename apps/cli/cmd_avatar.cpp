@@ -61,9 +61,12 @@ void register_avatar(CLI::App& app) {
   auto output = std::make_shared<std::string>();
   auto report = std::make_shared<std::string>();
   auto quiet = std::make_shared<bool>(false);
+  auto skeleton = std::make_shared<std::string>("smpl");
   CLI::App* cmd = app.add_subcommand("avatar", "Build a rigged avatar from measurements and export it (.glb or .obj)");
   add_body_options(*cmd, *opts, true);
   cmd->add_option("-o,--output", *output, "output file: avatar.glb (rigged glTF 2.0 binary) or avatar.obj")->required();
+  cmd->add_option("--skeleton", *skeleton,
+                  "bone names: smpl (the model's, default; SMPL pose data drives them) or humanoid (Unity Humanoid names)");
   cmd->add_option("--report", *report, "also write a JSON report (requested vs achieved measurements, shape, plausibility)");
   cmd->add_flag("-q,--quiet", *quiet, "do not print the measurement table");
   cmd->callback([=] {
@@ -76,10 +79,13 @@ void register_avatar(CLI::App& app) {
       if (!path.empty() && !folder.empty() && !std::filesystem::is_directory(folder, ec))
         throw Error(ErrorKind::Io, std::string(option) + ": there is no folder '" + folder.string() + "'", option);
     }
+    const SkeletonNaming naming = parse_skeleton_naming(*skeleton, "--skeleton");
     BuiltAvatar built = build_avatar(*opts);
     if (ends_with(*output, ".glb")) {
       // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
       GlbOptions glb;
+      glb.skeleton = naming;
+      glb.provenance = avatar_provenance(*built.model, built.avatar);
       const Eigen::VectorXd& vsd = built.avatar.vertex_sd;
       glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
       save_glb(*output, *built.model, built.avatar.rest_vertices, glb);

@@ -133,6 +133,7 @@ struct BodyRequest {
   bool include_mesh = true;
   std::string noise = "exact";                // auto / map: exact (values as given), self or other
   std::map<std::string, double> noise_sd_si;  // auto / map: per-measurement SD overrides, SI
+  SkeletonNaming skeleton = SkeletonNaming::Smpl;  // exports: bone names
 };
 
 ordered_json parse_json_body(const std::string& body) {
@@ -188,6 +189,7 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   // The message lists exactly what this endpoint takes ("mesh" only on /api/avatar).
   std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "noise", "noise_sd", "force"};
   if (allow_mesh_flag) known.insert(known.begin() + 4, "mesh");
+  else known.push_back("skeleton");  // the export endpoints
   for (const auto& [key, value] : j.items())
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       std::string list;
@@ -209,6 +211,7 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   }
   // Who measured, for auto (= map), and optional SDs per measurement (cm or kg); values whose
   // noise nobody stated are reproduced as given.
+  r.skeleton = parse_skeleton_naming(string_field(j, "skeleton", "smpl"), "skeleton");
   r.noise = lower(string_field(j, "noise", "exact"));
   if (r.noise != "exact" && r.noise != "self" && r.noise != "other") bad("noise must be exact, self or other", "noise");
   if (j.contains("noise_sd") && !j["noise_sd"].is_null()) {
@@ -487,6 +490,8 @@ struct Api::Impl {
     if (kind == "glb") {
       out.content_type = "model/gltf-binary";
       GlbOptions glb;  // the map estimator's per-vertex SD as _UNCERTAINTY, when there is one
+      glb.skeleton = r.skeleton;
+      glb.provenance = avatar_provenance(m, b.avatar);
       glb.extra_vertex_scalar.assign(b.avatar.vertex_sd.data(), b.avatar.vertex_sd.data() + b.avatar.vertex_sd.size());
       out.body = write_glb(m, b.avatar.rest_vertices, glb);
       out.download_name = stem + ".glb";

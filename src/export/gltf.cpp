@@ -25,6 +25,8 @@
 
 #include <tiny_gltf.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -38,6 +40,8 @@
 #include <sstream>
 #include <string_view>
 #include <utility>
+
+#include <nlohmann/json.hpp>
 
 #include "caliper/errors.h"
 
@@ -205,7 +209,10 @@ SplitMesh split_at_uv_seams(const BodyModel& model) {
 
 }  // namespace
 
-std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+namespace {
+
+// The glTF document before its provenance: tinygltf's output, parsed back by write_glb.
+std::string tinygltf_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
   check_inputs(model, rest, options);
   const auto& data = model.data();
   const int joint_count = model.joint_count();
@@ -314,32 +321,40 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
   tinygltf::Scene scene;
   scene.name = "Caliper avatar";
   if (options.include_skin) {
-    const Eigen::MatrixX3d joints = model.joints(rest);
-    for (int j = 0; j < joint_count; ++j) {
+    // Nodes 0..J−1: the model's joints in its order, node J: the root bone (export/rig.h). The
+    // skin lists them in that order too, so JOINTS_0 holds the model's joint indices and the
+    // root bone, which moves no vertex, comes last.
+    const ExportRig rig = export_rig(model, model.joints(rest), rest, options.skeleton);
+    for (int j = 0; j < rig.size(); ++j) {
       tinygltf::Node node;
-      node.name = data.joint_names[static_cast<size_t>(j)];
-      const int p = data.parents[static_cast<size_t>(j)];
-      const Eigen::RowVector3d t = p < 0 ? Eigen::RowVector3d(joints.row(j)) : Eigen::RowVector3d(joints.row(j) - joints.row(p));
-      node.translation = {t(0), t(1), t(2)};
+      node.name = rig.names[static_cast<size_t>(j)];
+      const Eigen::Vector3d t = rig.local_translation(j);
+      const Eigen::Quaterniond q(rig.local_rotation(j));
+      node.translation = {t.x(), t.y(), t.z()};
+      if (!q.coeffs().isApprox(Eigen::Vector4d(0, 0, 0, 1), 1e-15)) node.rotation = {q.x(), q.y(), q.z(), q.w()};
       gltf.nodes.push_back(std::move(node));
     }
-    for (int j = 1; j < joint_count; ++j)  // BodyModel guarantees parents precede children
-      gltf.nodes[static_cast<size_t>(data.parents[static_cast<size_t>(j)])].children.push_back(j);
+    for (int j = 0; j < rig.size(); ++j)
+      if (const int p = rig.parents[static_cast<size_t>(j)]; p >= 0) gltf.nodes[static_cast<size_t>(p)].children.push_back(j);
 
-    // Inverse bind matrices, column-major: the rest world transform of a joint is a pure
-    // translation to its position, so its inverse translates by −position.
-    std::vector<float> ibm(static_cast<size_t>(joint_count) * 16, 0.0f);
-    for (int j = 0; j < joint_count; ++j) {
+    // Inverse bind matrices, column-major: the inverse of each joint's rest world transform
+    // [R | x], i.e. [Rᵀ | −Rᵀx].
+    std::vector<float> ibm(static_cast<size_t>(rig.size()) * 16, 0.0f);
+    for (int j = 0; j < rig.size(); ++j) {
+      const Eigen::Matrix3d rt = rig.orientations[static_cast<size_t>(j)].transpose();
+      const Eigen::Vector3d t = -rt * rig.positions[static_cast<size_t>(j)];
       float* m = &ibm[static_cast<size_t>(j) * 16];
-      m[0] = m[5] = m[10] = m[15] = 1.0f;
-      for (int c = 0; c < 3; ++c) m[12 + c] = static_cast<float>(-joints(j, c));
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) m[4 * c + r] = static_cast<float>(rt(r, c));
+      for (int r = 0; r < 3; ++r) m[12 + r] = static_cast<float>(t(r));
+      m[15] = 1.0f;
     }
     tinygltf::Skin skin;
     skin.name = "skeleton";
     skin.inverseBindMatrices = bin.add_accessor(ibm, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4,
-                                                static_cast<size_t>(joint_count), 0);
-    skin.skeleton = 0;
-    for (int j = 0; j < joint_count; ++j) skin.joints.push_back(j);
+                                                static_cast<size_t>(rig.size()), 0);
+    skin.skeleton = rig.root;
+    for (int j = 0; j < rig.size(); ++j) skin.joints.push_back(j);
     gltf.skins.push_back(std::move(skin));
 
     tinygltf::Node mesh_node;
@@ -349,9 +364,9 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
     gltf.nodes.push_back(std::move(mesh_node));
     tinygltf::Node armature;
     armature.name = "Armature";
-    armature.children = {0};
+    armature.children = {rig.root};
     gltf.nodes.push_back(std::move(armature));
-    scene.nodes = {joint_count + 1, joint_count};
+    scene.nodes = {rig.size() + 1, rig.size()};
   } else {
     tinygltf::Node mesh_node;
     mesh_node.name = options.mesh_name;
@@ -368,6 +383,56 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
   if (!writer.WriteGltfSceneToStream(&gltf, out, false, true) || !out)
     throw Error(ErrorKind::Io, "glTF export: the writer failed", "glb");
   return std::move(out).str();
+}
+
+// A GLB's JSON chunk as a document, and the GLB rebuilt around an edited one (the binary chunk
+// kept byte for byte). Only used on tinygltf's own output, whose layout is known.
+nlohmann::json glb_json(const std::string& glb) {
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  return nlohmann::json::parse(glb.substr(20, json_length));
+}
+
+std::string with_glb_json(const std::string& glb, const nlohmann::json& doc) {
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  const std::string bin = glb.substr(20 + json_length);
+  std::string text = doc.dump();
+  while (text.size() % 4 != 0) text += ' ';  // the spec pads the JSON chunk with spaces
+  auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const auto total = static_cast<std::uint32_t>(12 + 8 + text.size() + bin.size());
+  return "glTF" + u32(2) + u32(total) + u32(static_cast<std::uint32_t>(text.size())) + "JSON" + text + bin;
+}
+
+nlohmann::json provenance_json(const Provenance& p) {
+  nlohmann::json measurements = nlohmann::json::object();
+  for (const auto& m : measurements_in_edge_units(p)) measurements[m.name] = {{"value", m.value}, {"unit", m.unit}};
+  return {{"body_model", p.body_model},
+          {"model_source", p.model_source},
+          {"licence", p.licence},
+          {"commercial_use", p.commercial_use},
+          {"sex", p.sex},
+          {"regressor", p.regressor},
+          {"measurements", measurements},
+          {"caliper_version", p.caliper_version},
+          {"units", "metres, +Y up, facing +Z"}};
+}
+
+// The GLB's document with the avatar's provenance in asset.copyright and asset.extras.caliper.
+nlohmann::json document_with_provenance(const std::string& glb, const BodyModel& model, const ExportOptions& options) {
+  const Provenance p = options.provenance.value_or(model_provenance(model));
+  nlohmann::json doc = glb_json(glb);
+  doc["asset"]["copyright"] = provenance_notice(p);
+  doc["asset"]["extras"]["caliper"] = provenance_json(p);
+  doc["asset"]["extras"]["caliper"]["skeleton"] = to_string(options.skeleton);
+  return doc;
+}
+
+}  // namespace
+
+std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+  const std::string glb = tinygltf_glb(model, rest, options);
+  return with_glb_json(glb, document_with_provenance(glb, model, options));
 }
 
 namespace {

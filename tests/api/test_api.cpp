@@ -323,7 +323,7 @@ TEST_F(ApiTest, UnknownFieldMessagesListWhatTheEndpointAccepts) {
   body["mesh"] = false;
   EXPECT_EQ(call("POST", "/api/avatar", body.dump()).status, 200);
   e = expect_error(call("POST", "/api/export/obj", body.dump()), 400, "mesh");
-  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd, force)"), std::string::npos) << e;
+  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd, force, skeleton)"), std::string::npos) << e;
 }
 
 // docs/api.md: an invalid noise is refused whatever the regressor; a valid one only matters to map.
@@ -389,6 +389,26 @@ TEST_F(ApiTest, ExportsAreTheFilesTheyClaimToBe) {
   EXPECT_NEAR(r["measurements"]["stature"]["requested_cm"].get<double>(), 168.0, 1e-9);
   // Exports take no "mesh" flag; bad values are refused as for /api/avatar.
   expect_error(call("POST", "/api/export/glb", avatar_body(9999, 60).dump()), 400, "stature");
+}
+
+// The exports name their bones after SMPL or Unity's Humanoid, and say where the avatar came from.
+TEST_F(ApiTest, ExportsTakeASkeletonNamingAndCarryProvenance) {
+  json body = avatar_body(168, 62);
+  body["skeleton"] = "humanoid";
+  ApiResponse glb = call("POST", "/api/export/glb", body.dump());
+  ASSERT_EQ(glb.status, 200) << glb.body;
+  std::uint32_t length = 0;
+  std::memcpy(&length, glb.body.data() + 12, 4);
+  const json doc = json::parse(glb.body.substr(20, length));
+  std::set<std::string> names;
+  for (const auto& n : doc["nodes"]) names.insert(n.value("name", ""));
+  EXPECT_TRUE(names.count("Hips") && names.count("LeftUpperArm") && names.count("Root")) << doc["nodes"].dump();
+  EXPECT_FALSE(names.count("pelvis"));
+  EXPECT_EQ(doc["asset"]["extras"]["caliper"]["body_model"], "toy-female");
+  EXPECT_NEAR(doc["asset"]["extras"]["caliper"]["measurements"]["stature"]["value"].get<double>(), 168.0, 1e-9);
+  body["skeleton"] = "mixamo";
+  const json e = expect_error(call("POST", "/api/export/glb", body.dump()), 400, "skeleton");
+  EXPECT_NE(e["message"].get<std::string>().find("'smpl' or 'humanoid'"), std::string::npos) << e;
 }
 
 TEST_F(ApiTest, CsvMeasurementSetsAreReadWithUnitsHeadersAndComments) {

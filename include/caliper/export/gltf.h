@@ -1,18 +1,30 @@
 // glTF 2.0 binary (.glb) export of a rigged, skinned avatar: positions, normals, 4 joint
-// influences per vertex, a joint node per SMPL joint (named after it), inverse bind matrices, and
-// texture coordinates (TEXCOORD_0) when the model has a UV layout.
+// influences per vertex, a joint node per model joint plus a root bone on the floor (export/rig.h:
+// rest orientations along the bones, SMPL or engine names), inverse bind matrices, texture
+// coordinates (TEXCOORD_0) when the model has a UV layout, and the avatar's provenance
+// (asset.copyright, asset.extras.caliper).
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "caliper/body/body_model.h"
+#include "caliper/export/provenance.h"
+#include "caliper/export/rig.h"
 
 namespace caliper {
 
-struct GlbOptions {
+// What every avatar export (glb, vrm, fbx) takes.
+struct ExportOptions {
   std::string mesh_name = "avatar";
   bool include_skin = true;
-  std::vector<float> extra_vertex_scalar;  // optional N values written as _UNCERTAINTY (issue 7)
+  SkeletonNaming skeleton = SkeletonNaming::Smpl;
+  // Written into the file; without it, the model's part alone (model_provenance).
+  std::optional<Provenance> provenance;
+};
+
+struct GlbOptions : ExportOptions {
+  std::vector<float> extra_vertex_scalar;  // optional N values written as _UNCERTAINTY
 };
 
 // GLB bytes for rest vertices (N×3) of `model`. Joints come from the model's joint regressor.
