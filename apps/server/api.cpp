@@ -495,6 +495,13 @@ struct Api::Impl {
       glb.extra_vertex_scalar.assign(b.avatar.vertex_sd.data(), b.avatar.vertex_sd.data() + b.avatar.vertex_sd.size());
       out.body = write_glb(m, b.avatar.rest_vertices, glb);
       out.download_name = stem + ".glb";
+    } else if (kind == "fbx") {
+      out.content_type = "application/octet-stream";  // FBX has no registered media type
+      ExportOptions fbx;
+      fbx.skeleton = r.skeleton;
+      fbx.provenance = avatar_provenance(m, b.avatar);
+      out.body = write_fbx(m, b.avatar.rest_vertices, fbx);
+      out.download_name = stem + ".fbx";
     } else if (kind == "obj") {
       out.content_type = "text/plain; charset=utf-8";
       out.body = write_obj(b.avatar.rest_vertices, m.faces(), m.data().uv_coordinates, m.data().uv_faces,
@@ -551,13 +558,14 @@ struct Api::Impl {
     if (is("GET", "/api/topology")) return topology(req);
     if (is("POST", "/api/avatar")) return avatar(req);
     if (is("POST", "/api/export/glb")) return export_file(req, "glb");
+    if (is("POST", "/api/export/fbx")) return export_file(req, "fbx");
     if (is("POST", "/api/export/obj")) return export_file(req, "obj");
     if (is("POST", "/api/export/report")) return export_file(req, "report");
     if (is("POST", "/api/measurement-set/import")) return import_set(req);
     if (is("POST", "/api/measurement-set/export")) return export_set(req);
     static const std::vector<Route> routes = {
         {"GET", "/api/health"}, {"GET", "/api/models"}, {"GET", "/api/measurements"}, {"GET", "/api/topology"},
-        {"POST", "/api/avatar"}, {"POST", "/api/export/glb"}, {"POST", "/api/export/obj"}, {"POST", "/api/export/report"},
+        {"POST", "/api/avatar"}, {"POST", "/api/export/glb"}, {"POST", "/api/export/fbx"}, {"POST", "/api/export/obj"}, {"POST", "/api/export/report"},
         {"POST", "/api/measurement-set/import"}, {"POST", "/api/measurement-set/export"}};
     for (const auto& rt : routes)
       if (req.path == rt.path)

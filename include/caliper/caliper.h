@@ -16,6 +16,7 @@
 #include "caliper/capture/measurement_set.h"
 #include "caliper/avatar.h"
 #include "caliper/export/gltf.h"
+#include "caliper/export/fbx.h"
 #include "caliper/export/provenance.h"
 #include "caliper/export/rig.h"
 #include "caliper/avatar_report.h"

@@ -44,12 +44,17 @@
 #include <nlohmann/json.hpp>
 
 #include "caliper/errors.h"
+#include "export_common.h"
 
 #ifndef CALIPER_VERSION
 #define CALIPER_VERSION "unknown"
 #endif
 
 namespace caliper {
+
+using export_detail::Influences;
+using export_detail::top_influences;
+using export_detail::write_file;
 
 namespace {
 
@@ -108,42 +113,6 @@ class BinaryBuilder {
   tinygltf::Model& model_;
   std::vector<unsigned char> data_;
 };
-
-// The 4 largest weights of one vertex (ties broken by the lower joint index, so the output is
-// deterministic), as float weights whose left-to-right float sum is exactly 1.
-struct Influences {
-  std::array<int, 4> joints{0, 0, 0, 0};
-  std::array<float, 4> weights{0, 0, 0, 0};
-};
-
-float float_sum(const std::array<float, 4>& w) { return ((w[0] + w[1]) + w[2]) + w[3]; }
-
-Influences top_influences(const Eigen::SparseMatrix<double, Eigen::RowMajor>& skin, Eigen::Index vertex) {
-  std::vector<std::pair<double, int>> all;
-  for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(skin, vertex); it; ++it)
-    if (it.value() > 0) all.emplace_back(it.value(), static_cast<int>(it.col()));
-  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first > b.first : a.second < b.second;
-  });
-  if (all.size() > 4) all.resize(4);
-  Influences out;
-  if (all.empty()) {  // BodyModel rejects this; keep the vertex bound to the root anyway
-    out.weights[0] = 1.0f;
-    return out;
-  }
-  double kept = 0;
-  for (const auto& [w, j] : all) kept += w;
-  for (size_t k = 0; k < all.size(); ++k) {
-    out.joints[k] = all[k].second;
-    out.weights[k] = static_cast<float>(all[k].first / kept);
-  }
-  // Put the rounding residue on the largest weight, then nudge it by ulps until the float sum is
-  // exactly 1 (the validator and engines check the sum; a few ulps off is a warning in some).
-  out.weights[0] = 1.0f - ((out.weights[1] + out.weights[2]) + out.weights[3]);
-  for (int step = 0; step < 16 && float_sum(out.weights) != 1.0f; ++step)
-    out.weights[0] = std::nextafter(out.weights[0], float_sum(out.weights) < 1.0f ? 2.0f : 0.0f);
-  return out;
-}
 
 void check_inputs(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
   if (rest.rows() != model.vertex_count())
@@ -436,14 +405,6 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
 }
 
 namespace {
-
-void write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) throw Error(ErrorKind::Io, "cannot open '" + path + "' for writing", path);
-  file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  file.close();
-  if (!file) throw Error(ErrorKind::Io, "cannot write '" + path + "'", path);
-}
 
 // Shortest decimal that reads back to the same double: exact OBJ round trips, locale-free.
 void append_number(std::string& out, double value) {

@@ -302,7 +302,7 @@ TEST_F(ApiTest, BadRequestsAreRefusedWithJsonErrors) {
 // client's mistake (400), on every endpoint that reads a JSON body.
 TEST_F(ApiTest, NumbersTooLargeForADoubleAreA400NamingTheBody) {
   const std::string huge = R"({"sex":"female","measurements":{"stature":1e999,"weight":60}})";
-  for (const char* path : {"/api/avatar", "/api/export/glb", "/api/export/obj", "/api/export/report",
+  for (const char* path : {"/api/avatar", "/api/export/glb", "/api/export/fbx", "/api/export/obj", "/api/export/report",
                            "/api/measurement-set/import", "/api/measurement-set/export"}) {
     json e = expect_error(call("POST", path, huge), 400, "body");
     EXPECT_EQ(e["kind"], "invalid_argument") << path;
@@ -406,6 +406,11 @@ TEST_F(ApiTest, ExportsTakeASkeletonNamingAndCarryProvenance) {
   EXPECT_FALSE(names.count("pelvis"));
   EXPECT_EQ(doc["asset"]["extras"]["caliper"]["body_model"], "toy-female");
   EXPECT_NEAR(doc["asset"]["extras"]["caliper"]["measurements"]["stature"]["value"].get<double>(), 168.0, 1e-9);
+  ApiResponse fbx = call("POST", "/api/export/fbx", body.dump());
+  ASSERT_EQ(fbx.status, 200) << fbx.body;
+  EXPECT_EQ(fbx.body.substr(0, 18), "Kaydara FBX Binary");
+  EXPECT_EQ(fbx.download_name.substr(fbx.download_name.size() - 4), ".fbx");
+  EXPECT_NE(fbx.body.find("toy-female"), std::string::npos);
   body["skeleton"] = "mixamo";
   const json e = expect_error(call("POST", "/api/export/glb", body.dump()), 400, "skeleton");
   EXPECT_NE(e["message"].get<std::string>().find("'smpl' or 'humanoid'"), std::string::npos) << e;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -18,6 +19,7 @@
 #include "caliper/body/body_model.h"
 #include "caliper/body/mesh.h"
 #include "caliper/errors.h"
+#include "caliper/export/fbx.h"
 #include "caliper/export/gltf.h"
 #include "fixtures.h"
 
@@ -542,8 +544,103 @@ TEST(GlbAssimp, ReadsBackSkinnedMesh) {
       EXPECT_NEAR(p.Length(), 0.0, 1e-6);
     }
 }
+
+// FBX read back by Assimp, an independent reader: the mesh at its size (metres, declared by
+// UnitScaleFactor 100), the node tree root → pelvis → …, every vertex's weights summing to 1,
+// and each bone's offset (inverse bind) matrix taking its joint to the origin.
+TEST(FbxAssimp, ReadsBackMeshSkeletonWeightsAndBindPose) {
+  const Vertices rest = tube().rest_vertices(Eigen::Vector2d(1.0, 1.0));
+  const std::string bytes = caliper::write_fbx(tube(), rest);
+  ASSERT_GT(bytes.size(), 27u);
+  EXPECT_EQ(bytes.substr(0, 21), std::string("Kaydara FBX Binary  \0", 21));
+  std::uint32_t version = 0;
+  std::memcpy(&version, bytes.data() + 23, 4);
+  EXPECT_EQ(version, 7400u);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(
+      bytes.data(), bytes.size(), aiProcess_ValidateDataStructure | aiProcess_JoinIdenticalVertices, "fbx");
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  ASSERT_EQ(scene->mNumMeshes, 1u);
+  const aiMesh* mesh = scene->mMeshes[0];
+  EXPECT_EQ(mesh->mNumVertices, static_cast<unsigned>(kVertices));
+  EXPECT_EQ(mesh->mNumFaces, static_cast<unsigned>(tube().face_count()));
+  // Every written vertex is one of the model's, at the model's position (metres, no scaling).
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+    double best = 1e9;
+    for (int k = 0; k < kVertices; ++k)
+      best = std::min(best, (Eigen::Vector3d(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z) - rest.row(k).transpose()).norm());
+    EXPECT_LT(best, 1e-6) << "vertex " << v;
+  }
+  ASSERT_NE(scene->mMetaData, nullptr);
+  double scale = 0;
+  float scale_f = 0;  // Assimp keeps FBX doubles as float or double depending on the version
+  if (!scene->mMetaData->Get("UnitScaleFactor", scale) && scene->mMetaData->Get("UnitScaleFactor", scale_f)) scale = scale_f;
+  EXPECT_EQ(scale, 100.0);
+  int up = -1;
+  ASSERT_TRUE(scene->mMetaData->Get("UpAxis", up));
+  EXPECT_EQ(up, 1);
+  // Weights: per vertex (by position) they sum to 1.
+  std::vector<double> sum(mesh->mNumVertices, 0.0);
+  std::map<std::string, const aiBone*> bones;
+  for (unsigned b = 0; b < mesh->mNumBones; ++b) {
+    const aiBone* bone = mesh->mBones[b];
+    bones[bone->mName.C_Str()] = bone;
+    for (unsigned k = 0; k < bone->mNumWeights; ++k) sum[bone->mWeights[k].mVertexId] += bone->mWeights[k].mWeight;
+  }
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) EXPECT_NEAR(sum[v], 1.0, 1e-6) << "vertex " << v;
+  EXPECT_GE(bones.size(), 24u);
+  // Bind pose: each joint's offset matrix maps the joint's rest position to the origin.
+  auto joint = [&](int j) -> Eigen::Vector3d {
+    return j < 22 ? Eigen::Vector3d(rest.row(1 + j).transpose()) : Eigen::Vector3d(0.5 * (rest.row(23) + rest.row(24)).transpose());
+  };
+  const auto& names = caliper::smpl_joint_names();
+  for (int j = 0; j < 24; ++j) {
+    const auto it = bones.find(names[j]);
+    if (it == bones.end()) continue;  // a joint that moves no vertex has no bone in Assimp
+    const aiVector3D p = it->second->mOffsetMatrix * aiVector3D(joint(j).x(), joint(j).y(), joint(j).z());
+    EXPECT_LT(p.Length(), 1e-6) << names[j];
+  }
+  // The node tree: root (on the floor) → pelvis → left_hip → left_knee, at the joints' places.
+  const aiNode* root = scene->mRootNode->FindNode("root");
+  ASSERT_NE(root, nullptr);
+  const aiNode* pelvis = root->FindNode("pelvis");
+  ASSERT_NE(pelvis, nullptr);
+  EXPECT_EQ(pelvis->mParent, root);
+  const aiNode* knee = scene->mRootNode->FindNode("left_knee");
+  ASSERT_NE(knee, nullptr);
+  EXPECT_EQ(std::string(knee->mParent->mName.C_Str()), "left_hip");
+  aiMatrix4x4 world;
+  for (const aiNode* n = knee; n; n = n->mParent) world = n->mTransformation * world;
+  const aiVector3D at = world * aiVector3D(0, 0, 0);
+  EXPECT_NEAR(at.x, joint(4).x(), 1e-6);
+  EXPECT_NEAR(at.y, joint(4).y(), 1e-6);
+  EXPECT_NEAR(at.z, joint(4).z(), 1e-6);
+}
+
+TEST(FbxAssimp, HumanoidNamesAndProvenanceProperties) {
+  caliper::ExportOptions options;
+  options.skeleton = caliper::SkeletonNaming::Humanoid;
+  const std::string bytes = caliper::write_fbx(tube(), tube().data().template_vertices, options);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_ValidateDataStructure, "fbx");
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  for (const char* name : {"Root", "Hips", "LeftUpperLeg", "LeftFoot", "LeftToes", "LeftShoulder", "LeftUpperArm", "Head"})
+    EXPECT_NE(scene->mRootNode->FindNode(name), nullptr) << name;
+  EXPECT_EQ(scene->mRootNode->FindNode("pelvis"), nullptr);
+  // The tube has no licence: the file says so and refuses commercial use.
+  EXPECT_NE(bytes.find("non-commercial use only"), std::string::npos);
+  EXPECT_NE(bytes.find("caliper_licence"), std::string::npos);
+}
+
+TEST(Fbx, BadInputThrows) {
+  Vertices rest = tube().data().template_vertices;
+  EXPECT_EQ(catch_error([&] { caliper::write_fbx(tube(), rest.topRows(3)); }).field(), "vertices");
+  rest(2, 1) = std::nan("");
+  EXPECT_EQ(catch_error([&] { caliper::write_fbx(tube(), rest); }).field(), "vertices");
+}
 #else
 TEST(GlbAssimp, ReadsBackSkinnedMesh) { FAIL() << "built without Assimp: install libassimp-dev (scripts/install-deps.sh)"; }
+TEST(FbxAssimp, ReadsBackMeshSkeletonWeightsAndBindPose) { FAIL() << "built without Assimp: install libassimp-dev"; }
 #endif
 
 namespace {

@@ -4,24 +4,13 @@
 // coordinates (TEXCOORD_0) when the model has a UV layout, and the avatar's provenance
 // (asset.copyright, asset.extras.caliper).
 #pragma once
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "caliper/body/body_model.h"
-#include "caliper/export/provenance.h"
-#include "caliper/export/rig.h"
+#include "caliper/export/export_options.h"
 
 namespace caliper {
-
-// What every avatar export (glb, vrm, fbx) takes.
-struct ExportOptions {
-  std::string mesh_name = "avatar";
-  bool include_skin = true;
-  SkeletonNaming skeleton = SkeletonNaming::Smpl;
-  // Written into the file; without it, the model's part alone (model_provenance).
-  std::optional<Provenance> provenance;
-};
 
 struct GlbOptions : ExportOptions {
   std::vector<float> extra_vertex_scalar;  // optional N values written as _UNCERTAINTY
