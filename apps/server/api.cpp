@@ -487,14 +487,14 @@ struct Api::Impl {
     const BodyModel& m = b.entry->builder->model();
     ApiResponse out;
     const std::string stem = "caliper-" + m.name() + "-" + b.avatar.regressor;
-    if (kind == "glb") {
+    if (kind == "glb" || kind == "vrm") {
       out.content_type = "model/gltf-binary";
       GlbOptions glb;  // the map estimator's per-vertex SD as _UNCERTAINTY, when there is one
       glb.skeleton = r.skeleton;
       glb.provenance = avatar_provenance(m, b.avatar);
       glb.extra_vertex_scalar.assign(b.avatar.vertex_sd.data(), b.avatar.vertex_sd.data() + b.avatar.vertex_sd.size());
-      out.body = write_glb(m, b.avatar.rest_vertices, glb);
-      out.download_name = stem + ".glb";
+      out.body = kind == "vrm" ? write_vrm(m, b.avatar.rest_vertices, glb) : write_glb(m, b.avatar.rest_vertices, glb);
+      out.download_name = stem + "." + kind;
     } else if (kind == "fbx") {
       out.content_type = "application/octet-stream";  // FBX has no registered media type
       ExportOptions fbx;
@@ -559,13 +559,14 @@ struct Api::Impl {
     if (is("POST", "/api/avatar")) return avatar(req);
     if (is("POST", "/api/export/glb")) return export_file(req, "glb");
     if (is("POST", "/api/export/fbx")) return export_file(req, "fbx");
+    if (is("POST", "/api/export/vrm")) return export_file(req, "vrm");
     if (is("POST", "/api/export/obj")) return export_file(req, "obj");
     if (is("POST", "/api/export/report")) return export_file(req, "report");
     if (is("POST", "/api/measurement-set/import")) return import_set(req);
     if (is("POST", "/api/measurement-set/export")) return export_set(req);
     static const std::vector<Route> routes = {
         {"GET", "/api/health"}, {"GET", "/api/models"}, {"GET", "/api/measurements"}, {"GET", "/api/topology"},
-        {"POST", "/api/avatar"}, {"POST", "/api/export/glb"}, {"POST", "/api/export/fbx"}, {"POST", "/api/export/obj"}, {"POST", "/api/export/report"},
+        {"POST", "/api/avatar"}, {"POST", "/api/export/glb"}, {"POST", "/api/export/fbx"}, {"POST", "/api/export/vrm"}, {"POST", "/api/export/obj"}, {"POST", "/api/export/report"},
         {"POST", "/api/measurement-set/import"}, {"POST", "/api/measurement-set/export"}};
     for (const auto& rt : routes)
       if (req.path == rt.path)

@@ -399,6 +399,89 @@ nlohmann::json document_with_provenance(const std::string& glb, const BodyModel&
 
 }  // namespace
 
+namespace {
+
+// VRM 1.0's required humanoid bones (VRMC_vrm-1.0 humanoid.md).
+constexpr const char* kVrmRequired[] = {"hips",         "spine",        "head",          "leftUpperLeg",
+                                        "leftLowerLeg", "leftFoot",     "rightUpperLeg", "rightLowerLeg",
+                                        "rightFoot",    "leftUpperArm", "leftLowerArm",  "leftHand",
+                                        "rightUpperArm", "rightLowerArm", "rightHand"};
+
+// The point between the eyes, estimated from the mesh: at the head joint's x, at 93.3 % of the
+// standing height (eye height over stature in adult anthropometric surveys), 1 cm behind the
+// frontmost surface of the face at that height.
+Eigen::Vector3d estimated_eye_point(const Vertices& rest, const Eigen::Vector3d& head) {
+  const double floor = rest.col(1).minCoeff(), crown = rest.col(1).maxCoeff();
+  const double eye_y = floor + 0.933 * (crown - floor);
+  double front = head.z();
+  for (Eigen::Index v = 0; v < rest.rows(); ++v)
+    if (std::abs(rest(v, 1) - eye_y) < 0.02 && std::abs(rest(v, 0) - head.x()) < 0.08) front = std::max(front, rest(v, 2));
+  return {head.x(), eye_y, std::max(head.z(), front - 0.01)};
+}
+
+nlohmann::json vrm_meta(const Provenance& p) {
+  nlohmann::json meta = {
+      {"name", "Caliper avatar (" + p.body_model + ")"},
+      {"version", p.caliper_version},
+      {"authors", {"Caliper " + p.caliper_version}},
+      {"copyrightInformation", provenance_notice(p)},
+      {"thirdPartyLicenses", "Body model " + p.body_model + ": " + p.licence + (p.model_source.empty() ? "" : "; source: " + p.model_source)},
+      {"licenseUrl", "https://vrm.dev/licenses/1.0/"},
+      {"avatarPermission", "everyone"},
+      {"allowExcessivelyViolentUsage", false},
+      {"allowExcessivelySexualUsage", false},
+      {"allowPoliticalOrReligiousUsage", false},
+      {"allowAntisocialOrHateUsage", false},
+      {"creditNotation", "unnecessary"},
+      // A licence that forbids commercial use forbids it for the avatar too, and its body model's
+      // terms (SMPL: no redistribution) travel with it.
+      {"commercialUsage", p.commercial_use ? "corporation" : "personalNonProfit"},
+      {"allowRedistribution", p.commercial_use},
+      {"modification", p.commercial_use ? "allowModificationRedistribution" : "allowModification"}};
+  if (!p.measurements.empty()) meta["references"] = {"measurements: " + measurements_text(p)};
+  return meta;
+}
+
+}  // namespace
+
+std::string write_vrm(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+  GlbOptions skinned = options;
+  skinned.include_skin = true;
+  const std::string glb = tinygltf_glb(model, rest, skinned);
+  nlohmann::json doc = document_with_provenance(glb, model, skinned);
+  const ExportRig rig = export_rig(model, model.joints(rest), rest, skinned.skeleton);
+  nlohmann::json bones = nlohmann::json::object();
+  int head = -1;
+  for (int j = 0; j < model.joint_count(); ++j) {  // node j is model joint j (tinygltf_glb)
+    const HumanoidBone* b = find_humanoid_bone(rig.model_names[static_cast<size_t>(j)]);
+    if (b && *b->vrm) bones[b->vrm] = {{"node", j}};
+    if (b && std::string(b->vrm) == "head") head = j;
+  }
+  for (const char* required : kVrmRequired)
+    if (!bones.contains(required))
+      throw Error(ErrorKind::Unsupported,
+                  "VRM export: model '" + model.name() + "' has no joint for VRM's required bone '" + required +
+                      "' (VRM needs SMPL's joint names)",
+                  required);
+  const Eigen::Vector3d head_at = rig.positions[static_cast<size_t>(head)];
+  const Eigen::Vector3d offset =
+      rig.orientations[static_cast<size_t>(head)].transpose() * (estimated_eye_point(rest, head_at) - head_at);
+  const Provenance p = skinned.provenance.value_or(model_provenance(model));
+  doc["extensionsUsed"].push_back("VRMC_vrm");
+  doc["extensions"]["VRMC_vrm"] = {
+      {"specVersion", "1.0"},
+      {"meta", vrm_meta(p)},
+      {"humanoid", {{"humanBones", bones}}},
+      {"expressions", {{"preset", nlohmann::json::object()}, {"custom", nlohmann::json::object()}}},  // none: a plain body
+      {"firstPerson", {{"meshAnnotations", {{{"node", rig.size()}, {"type", "auto"}}}}}},  // node J+1: the mesh
+      {"lookAt", {{"offsetFromHeadBone", {offset.x(), offset.y(), offset.z()}}, {"type", "bone"}}}};
+  return with_glb_json(glb, doc);
+}
+
+void save_vrm(const std::string& path, const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+  write_file(path, write_vrm(model, rest, options));
+}
+
 std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
   const std::string glb = tinygltf_glb(model, rest, options);
   return with_glb_json(glb, document_with_provenance(glb, model, options));

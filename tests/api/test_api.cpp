@@ -406,6 +406,10 @@ TEST_F(ApiTest, ExportsTakeASkeletonNamingAndCarryProvenance) {
   EXPECT_FALSE(names.count("pelvis"));
   EXPECT_EQ(doc["asset"]["extras"]["caliper"]["body_model"], "toy-female");
   EXPECT_NEAR(doc["asset"]["extras"]["caliper"]["measurements"]["stature"]["value"].get<double>(), 168.0, 1e-9);
+  ApiResponse vrm = call("POST", "/api/export/vrm", body.dump());
+  ASSERT_EQ(vrm.status, 200) << vrm.body;
+  EXPECT_EQ(vrm.download_name.substr(vrm.download_name.size() - 4), ".vrm");
+  EXPECT_NE(vrm.body.find("VRMC_vrm"), std::string::npos);
   ApiResponse fbx = call("POST", "/api/export/fbx", body.dump());
   ASSERT_EQ(fbx.status, 200) << fbx.body;
   EXPECT_EQ(fbx.body.substr(0, 18), "Kaydara FBX Binary");

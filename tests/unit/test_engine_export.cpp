@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cstring>
+#include <algorithm>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -210,4 +211,45 @@ TEST(Provenance, GlbCarriesModelLicenceSexMeasurementsAndVersion) {
   EXPECT_DOUBLE_EQ(c["measurements"]["weight"]["value"].get<double>(), 61.5);
   EXPECT_EQ(c["measurements"]["weight"]["unit"], "kg");
   EXPECT_EQ(c["skeleton"], "smpl");
+}
+
+TEST(Vrm, HumanoidMapMetaAndLookAt) {
+  const BodyModel& m = mannequin();
+  const json doc = glb_document(write_vrm(m, m.data().template_vertices));
+  ASSERT_TRUE(doc.contains("extensionsUsed"));
+  EXPECT_NE(std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "VRMC_vrm"), doc["extensionsUsed"].end());
+  const json& vrm = doc["extensions"]["VRMC_vrm"];
+  EXPECT_EQ(vrm["specVersion"], "1.0");
+  const json& bones = vrm["humanoid"]["humanBones"];
+  // SMPL's one-off names land on the bone they start.
+  const std::map<std::string, std::string> expected = {{"hips", "pelvis"}, {"leftUpperArm", "left_shoulder"},
+      {"leftShoulder", "left_collar"}, {"leftHand", "left_wrist"}, {"leftFoot", "left_ankle"}, {"leftToes", "left_foot"},
+      {"rightThumbMetacarpal", "right_thumb1"}, {"leftLittleDistal", "left_pinky3"}};
+  for (const auto& [bone, joint] : expected) {
+    ASSERT_TRUE(bones.contains(bone)) << bone;
+    EXPECT_EQ(doc["nodes"][bones[bone]["node"].get<int>()]["name"], joint) << bone;
+  }
+  EXPECT_EQ(bones.size(), 22u + 30u);  // SMPL's 24 less the two knuckle joints, and 30 finger bones
+  EXPECT_EQ(vrm["meta"]["licenseUrl"], "https://vrm.dev/licenses/1.0/");
+  EXPECT_EQ(vrm["meta"]["commercialUsage"], "corporation");
+  EXPECT_EQ(doc["nodes"][vrm["firstPerson"]["meshAnnotations"][0]["node"].get<int>()].value("mesh", -1), 0);
+  const auto offset = vrm["lookAt"]["offsetFromHeadBone"].get<std::vector<double>>();
+  ASSERT_EQ(offset.size(), 3u);
+  EXPECT_GT(offset[1], 0.03);  // the eyes are above the head joint (the skull's base)…
+  EXPECT_LT(offset[1], 0.15);
+  EXPECT_GT(offset[2], 0.03);  // …and in front of it
+}
+
+TEST(Vrm, NonCommercialModelsSayPersonalNonProfitAndModelsWithoutSmplNamesAreRefused) {
+  BodyModelData d = test::toy_model().data();
+  d.metadata["licence"] = "non-commercial research licence";
+  const BodyModel toy(d);
+  const json doc = glb_document(write_vrm(toy, toy.data().template_vertices));
+  EXPECT_EQ(doc["extensions"]["VRMC_vrm"]["meta"]["commercialUsage"], "personalNonProfit");
+  EXPECT_EQ(doc["extensions"]["VRMC_vrm"]["meta"]["allowRedistribution"], false);
+  d.joint_names[0] = "root_joint";
+  const BodyModel renamed(d);
+  const Error e = test::catch_error([&] { write_vrm(renamed, renamed.data().template_vertices); });
+  EXPECT_EQ(e.kind(), ErrorKind::Unsupported);
+  EXPECT_EQ(e.field(), "hips");
 }

@@ -709,6 +709,18 @@ TEST(GlbKhronosValidator, SkinnedAvatarHasNoErrorsOrWarnings) {
   fs::remove_all(dir);
 }
 
+TEST(GlbKhronosValidator, VrmHasNoErrorsOrWarnings) {
+  REQUIRE_KHRONOS_VALIDATOR();
+  const fs::path dir = temp_dir();
+  caliper::save_vrm((dir / "tube.vrm").string(), tube(), tube().rest_vertices(Eigen::Vector2d(1.0, -1.0)));
+  const json s = khronos_validate(dir / "tube.vrm");
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
+  EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
+  EXPECT_TRUE(s["info"].value("hasSkins", false)) << s.dump(1);
+  fs::remove_all(dir);
+}
+
 TEST(GlbKhronosValidator, PlainMeshHasNoErrors) {
   REQUIRE_KHRONOS_VALIDATOR();
   const fs::path dir = temp_dir();

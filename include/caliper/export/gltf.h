@@ -23,6 +23,15 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
 void save_glb(const std::string& path, const BodyModel& model, const Vertices& rest,
               const GlbOptions& options = {});
 
+// VRM 1.0 (.vrm): the same GLB (always skinned) with the VRMC_vrm extension: the humanoid bone
+// map (export/rig.h's table: every required bone and the fingers the model has), the
+// first-person mesh, the look-at origin at the avatar's estimated eye point, and meta with the
+// provenance and the use the body model's licence allows. Throws Error(Unsupported) naming the
+// bone when the model lacks one VRM requires (hips, spine, head, legs, feet, arms, hands).
+std::string write_vrm(const BodyModel& model, const Vertices& rest, const GlbOptions& options = {});
+void save_vrm(const std::string& path, const BodyModel& model, const Vertices& rest,
+              const GlbOptions& options = {});
+
 // Wavefront OBJ text (positions, normals, faces), metres.
 std::string write_obj(const Vertices& vertices, const Faces& faces, const std::string& comment = {});
 // The same with texture coordinates: `vt` lines from `uv` (U×2, OBJ convention, v up) and faces
