@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cstring>
+#include <fstream>
 #include <algorithm>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -252,4 +253,35 @@ TEST(Vrm, NonCommercialModelsSayPersonalNonProfitAndModelsWithoutSmplNamesAreRef
   const Error e = test::catch_error([&] { write_vrm(renamed, renamed.data().template_vertices); });
   EXPECT_EQ(e.kind(), ErrorKind::Unsupported);
   EXPECT_EQ(e.field(), "hips");
+}
+
+// docs/engines.md's mapping table says what the code does: each row's SMPL, humanoid and VRM
+// names are one row of humanoid_bone_table(), and the left side and SMPL's trunk are all there.
+TEST(HumanoidNames, TheDocumentedTableMatchesTheCode) {
+  std::ifstream in(std::string(CALIPER_SOURCE_DIR) + "/docs/engines.md");
+  ASSERT_TRUE(in) << "docs/engines.md not found";
+  std::set<std::string> documented;
+  bool in_table = false;  // from the table's header to the blank line after it
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("| SMPL (`--skeleton smpl`)") == 0) in_table = true;
+    if (line.empty()) in_table = false;
+    if (!in_table || line.rfind("| `", 0) != 0) continue;
+    std::vector<std::string> cells;
+    for (size_t at = 1, bar; (bar = line.find('|', at)) != std::string::npos; at = bar + 1) {
+      std::string c = line.substr(at, bar - at);
+      c.erase(0, c.find_first_not_of(' '));
+      c.erase(c.find_last_not_of(' ') + 1);
+      cells.push_back(c);
+    }
+    if (cells.size() < 3) continue;
+    auto unquote = [](const std::string& c) { return c.size() > 2 && c.front() == '`' ? c.substr(1, c.find('`', 1) - 1) : std::string(); };
+    const std::string smpl = unquote(cells[0]);
+    const HumanoidBone* b = find_humanoid_bone(smpl);
+    ASSERT_NE(b, nullptr) << line;
+    EXPECT_EQ(unquote(cells[1]), b->humanoid) << line;
+    EXPECT_EQ(unquote(cells[2]), b->vrm) << line;
+    documented.insert(smpl);
+  }
+  for (const auto& name : rig_joint_names())
+    if (name.rfind("right_", 0) != 0) EXPECT_TRUE(documented.count(name)) << name << " is not in docs/engines.md";
 }
