@@ -257,6 +257,22 @@ std::string tinygltf_glb(const BodyModel& model, const Vertices& rest, const Glb
     primitive.attributes["_UNCERTAINTY"] =
         bin.add_accessor(extra, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, n, kArrayBuffer);
   }
+  // Morph targets: shape direction k as a POSITION displacement per written vertex, so weight w
+  // moves the avatar by w standard deviations of β_k (the joints stay where they are).
+  const int morphs = options.morphs ? model.shape_count() : 0;
+  for (int k = 0; k < morphs; ++k) {
+    std::vector<float> d(n * 3);
+    std::vector<double> dmin(3, std::numeric_limits<double>::infinity()), dmax(3, -std::numeric_limits<double>::infinity());
+    for (size_t v = 0; v < n; ++v)
+      for (int c = 0; c < 3; ++c) {
+        const float x = static_cast<float>(data.shape_directions(3 * src(v) + c, k));
+        d[v * 3 + c] = x;
+        dmin[c] = std::min(dmin[c], static_cast<double>(x));
+        dmax[c] = std::max(dmax[c], static_cast<double>(x));
+      }
+    primitive.targets.push_back(
+        {{"POSITION", bin.add_accessor(d, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, kArrayBuffer, dmin, dmax)}});
+  }
 
   // Indices: 16-bit when every index fits below 65535 (that value is the primitive-restart
   // sentinel, which glTF forbids as an index).
@@ -285,6 +301,7 @@ std::string tinygltf_glb(const BodyModel& model, const Vertices& rest, const Glb
   tinygltf::Mesh mesh;
   mesh.name = options.mesh_name;
   mesh.primitives.push_back(std::move(primitive));
+  mesh.weights.assign(static_cast<size_t>(morphs), 0.0);
   gltf.meshes.push_back(std::move(mesh));
 
   tinygltf::Scene scene;
@@ -394,6 +411,11 @@ nlohmann::json document_with_provenance(const std::string& glb, const BodyModel&
   doc["asset"]["copyright"] = provenance_notice(p);
   doc["asset"]["extras"]["caliper"] = provenance_json(p);
   doc["asset"]["extras"]["caliper"]["skeleton"] = to_string(options.skeleton);
+  if (options.morphs && model.shape_count() > 0) {  // names Blender and three.js show for the targets
+    nlohmann::json names = nlohmann::json::array();
+    for (int k = 0; k < model.shape_count(); ++k) names.push_back("shape_" + std::to_string(k));
+    doc["meshes"][0]["extras"]["targetNames"] = names;
+  }
   return doc;
 }
 

@@ -49,7 +49,9 @@ says "'smpl' or 'humanoid'" "the skeleton error lists the namings"
 expect 0 "FBX export" "$CALIPER" avatar --height 170 --weight 60 --skeleton humanoid -o "$TMP/a.fbx" -q
 head -c 18 "$TMP/a.fbx" >"$TMP/out"
 says "Kaydara FBX Binary" "the .fbx is a binary FBX"
-expect 0 "VRM export" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/a.vrm" -q
+expect 0 "VRM export" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/a.vrm" -q --morphs
+expect 3 "--morphs in an FBX" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/b.fbx" --morphs
+says "only .glb and .vrm" "the --morphs error says which files take it"
 grep -c "VRMC_vrm" "$TMP/a.vrm" >"$TMP/out"
 says "1" "the .vrm has the VRMC_vrm extension"
 expect 3 "bad --set" "$CALIPER" avatar --height 170 --weight 60 --set chest_circumference=abc -o "$TMP/a.glb"

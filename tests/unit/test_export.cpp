@@ -430,6 +430,29 @@ TEST(Glb, WithoutSkinIsAPlainMesh) {
   EXPECT_EQ(g.doc["nodes"][0]["name"], "plain");
 }
 
+// --morphs: one POSITION target per shape direction, weight 0, named; the tube's directions are
+// "taller by 1 % of the height" (β0) and "vertex 5 moves 2 cm along x" (β1).
+TEST(Glb, MorphTargetsAreTheShapeDirections) {
+  caliper::GlbOptions options;
+  options.morphs = true;
+  const Vertices rest = tube().rest_vertices(Eigen::Vector2d(0.5, 0.0));
+  const Glb g = parse_glb(caliper::write_glb(tube(), rest, options));
+  const json& mesh = g.doc["meshes"][0];
+  ASSERT_EQ(mesh["primitives"][0]["targets"].size(), 2u);
+  EXPECT_EQ(mesh["weights"], json::array({0.0, 0.0}));
+  EXPECT_EQ(mesh["extras"]["targetNames"], json::array({"shape_0", "shape_1"}));
+  const std::vector<double> taller = g.read(mesh["primitives"][0]["targets"][0]["POSITION"].get<int>());
+  const std::vector<double> moved = g.read(mesh["primitives"][0]["targets"][1]["POSITION"].get<int>());
+  const Vertices& t = tube().data().template_vertices;
+  for (int v = 0; v < kVertices; ++v) {
+    EXPECT_NEAR(taller[3 * v + 1], 0.01 * t(v, 1), 1e-7) << v;
+    EXPECT_EQ(taller[3 * v], 0.0);
+    EXPECT_EQ(moved[3 * v], v == 5 ? 0.02f : 0.0f) << v;
+  }
+  // Off by default.
+  EXPECT_FALSE(parse_glb(caliper::write_glb(tube(), rest)).doc["meshes"][0]["primitives"][0].contains("targets"));
+}
+
 TEST(Glb, UncertaintyBecomesACustomAttribute) {
   caliper::GlbOptions options;
   for (int v = 0; v < kVertices; ++v) options.extra_vertex_scalar.push_back(0.001f * static_cast<float>(v));
@@ -718,6 +741,19 @@ TEST(GlbKhronosValidator, VrmHasNoErrorsOrWarnings) {
   EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
   EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
   EXPECT_TRUE(s["info"].value("hasSkins", false)) << s.dump(1);
+  fs::remove_all(dir);
+}
+
+TEST(GlbKhronosValidator, MorphTargetsHaveNoErrorsOrWarnings) {
+  REQUIRE_KHRONOS_VALIDATOR();
+  const fs::path dir = temp_dir();
+  caliper::GlbOptions options;
+  options.morphs = true;
+  caliper::save_glb((dir / "morphs.glb").string(), tube(), tube().rest_vertices(Eigen::Vector2d(1.0, -1.0)), options);
+  const json s = khronos_validate(dir / "morphs.glb");
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
+  EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
   fs::remove_all(dir);
 }
 
