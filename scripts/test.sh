@@ -30,6 +30,8 @@ if [ "${CALIPER_BLENDER:-0}" = "1" ]; then
   tmp="$(mktemp -d)"
   build/bin/caliper avatar --sex female --height 165 --weight 62 -o "$tmp/female.glb" -q
   build/bin/caliper avatar --sex male --height 180 --weight 85 --arm-span 186 --inseam 84 -o "$tmp/male.glb" -q
-  bash tests/e2e/check-glb.sh "$tmp/female.glb" "$tmp/male.glb"
+  build/bin/caliper avatar --sex female --height 165 --weight 62 -o "$tmp/female.fbx" -q
+  build/bin/caliper avatar --sex male --height 180 --weight 85 --skeleton humanoid -o "$tmp/male.fbx" -q
+  bash tests/e2e/check-glb.sh "$tmp/female.glb" "$tmp/male.glb" "$tmp/female.fbx" "$tmp/male.fbx"
   rm -rf "$tmp"
 fi

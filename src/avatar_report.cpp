@@ -109,4 +109,11 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
   return j.dump(indent) + "\n";
 }
 
+Provenance avatar_provenance(const BodyModel& model, const Avatar& avatar) {
+  Provenance p = model_provenance(model);
+  p.regressor = avatar.regressor;
+  p.measurements = avatar.requested;
+  return p;
+}
+
 }  // namespace caliper

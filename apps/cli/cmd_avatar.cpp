@@ -69,14 +69,19 @@ void register_avatar(CLI::App& app) {
   auto output = std::make_shared<std::string>();
   auto report = std::make_shared<std::string>();
   auto quiet = std::make_shared<bool>(false);
-  CLI::App* cmd = app.add_subcommand("avatar", "Build a rigged avatar from measurements and export it (.glb or .obj)");
+  auto skeleton = std::make_shared<std::string>("smpl");
+  auto morphs = std::make_shared<bool>(false);
+  CLI::App* cmd = app.add_subcommand("avatar", "Build a rigged avatar from measurements and export it (.glb, .vrm, .fbx or .obj)");
   add_body_options(*cmd, *opts, true);
-  cmd->add_option("-o,--output", *output, "output file: avatar.glb (rigged glTF 2.0 binary) or avatar.obj")->required();
+  cmd->add_option("-o,--output", *output, "output file: avatar.glb (rigged glTF 2.0 binary), avatar.vrm (VRM 1.0 humanoid), avatar.fbx (rigged FBX 7.4 binary) or avatar.obj")->required();
+  cmd->add_option("--skeleton", *skeleton,
+                  "bone names: smpl (the model's, default; SMPL pose data drives them) or humanoid (Unity Humanoid names)");
   cmd->add_option("--report", *report, "also write a JSON report (requested vs achieved measurements, shape, plausibility)");
+  cmd->add_flag("--morphs", *morphs, ".glb / .vrm: also write the model's shape directions as morph targets (blend shapes)");
   cmd->add_flag("-q,--quiet", *quiet, "do not print the measurement table");
   cmd->callback([=] {
-    if (!ends_with(*output, ".glb") && !ends_with(*output, ".obj"))
-      throw Error(ErrorKind::InvalidArgument, "--output must end in .glb or .obj, got '" + *output + "'", "--output");
+    if (!ends_with(*output, ".glb") && !ends_with(*output, ".vrm") && !ends_with(*output, ".fbx") && !ends_with(*output, ".obj"))
+      throw Error(ErrorKind::InvalidArgument, "--output must end in .glb, .vrm, .fbx or .obj, got '" + *output + "'", "--output");
     // Both files' folders are checked first, so a bad --report does not leave a lone mesh behind.
     for (const auto& [path, option] : {std::pair{*output, "--output"}, std::pair{*report, "--report"}}) {
       const auto folder = std::filesystem::path(path).parent_path();
@@ -84,13 +89,26 @@ void register_avatar(CLI::App& app) {
       if (!path.empty() && !folder.empty() && !std::filesystem::is_directory(folder, ec))
         throw Error(ErrorKind::Io, std::string(option) + ": there is no folder '" + folder.string() + "'", option);
     }
+    const SkeletonNaming naming = parse_skeleton_naming(*skeleton, "--skeleton");
+    if (*morphs && !ends_with(*output, ".glb") && !ends_with(*output, ".vrm"))
+      throw Error(ErrorKind::InvalidArgument, "--morphs: only .glb and .vrm files carry morph targets, got '" + *output + "'",
+                  "--morphs");
     BuiltAvatar built = build_avatar(*opts);
-    if (ends_with(*output, ".glb")) {
+    if (ends_with(*output, ".glb") || ends_with(*output, ".vrm")) {
       // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
       GlbOptions glb;
+      glb.skeleton = naming;
+      glb.morphs = *morphs;
+      glb.provenance = avatar_provenance(*built.model, built.avatar);
       const Eigen::VectorXd& vsd = built.avatar.vertex_sd;
       glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
-      save_glb(*output, *built.model, built.avatar.rest_vertices, glb);
+      if (ends_with(*output, ".vrm")) save_vrm(*output, *built.model, built.avatar.rest_vertices, glb);
+      else save_glb(*output, *built.model, built.avatar.rest_vertices, glb);
+    } else if (ends_with(*output, ".fbx")) {
+      ExportOptions fbx;
+      fbx.skeleton = naming;
+      fbx.provenance = avatar_provenance(*built.model, built.avatar);
+      save_fbx(*output, *built.model, built.avatar.rest_vertices, fbx);
     } else
       write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(), built.model->data().uv_coordinates,
                                     built.model->data().uv_faces, "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));

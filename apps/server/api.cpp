@@ -134,6 +134,7 @@ struct BodyRequest {
   std::string pose = "t";                     // /api/avatar's mesh: t (the rest pose), a or stride
   std::string noise = "exact";                // auto / map: exact (values as given), self or other
   std::map<std::string, double> noise_sd_si;  // auto / map: per-measurement SD overrides, SI
+  SkeletonNaming skeleton = SkeletonNaming::Smpl;  // exports: bone names
 };
 
 ordered_json parse_json_body(const std::string& body) {
@@ -189,6 +190,7 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   // The message lists exactly what this endpoint takes ("mesh" and "pose" only on /api/avatar).
   std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "noise", "noise_sd", "force"};
   if (allow_mesh_flag) known.insert(known.begin() + 4, {"mesh", "pose"});
+  else known.push_back("skeleton");  // the export endpoints
   for (const auto& [key, value] : j.items())
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       std::string list;
@@ -213,6 +215,7 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   if (r.pose != "t" && r.pose != "a" && r.pose != "stride") bad("pose must be t (the rest pose), a or stride", "pose");
   // Who measured, for auto (= map), and optional SDs per measurement (cm or kg); values whose
   // noise nobody stated are reproduced as given.
+  r.skeleton = parse_skeleton_naming(string_field(j, "skeleton", "smpl"), "skeleton");
   r.noise = lower(string_field(j, "noise", "exact"));
   if (r.noise != "exact" && r.noise != "self" && r.noise != "other") bad("noise must be exact, self or other", "noise");
   if (j.contains("noise_sd") && !j["noise_sd"].is_null()) {
@@ -492,12 +495,21 @@ struct Api::Impl {
     const BodyModel& m = b.entry->builder->model();
     ApiResponse out;
     const std::string stem = "caliper-" + m.name() + "-" + b.avatar.regressor;
-    if (kind == "glb") {
+    if (kind == "glb" || kind == "vrm") {
       out.content_type = "model/gltf-binary";
       GlbOptions glb;  // the map estimator's per-vertex SD as _UNCERTAINTY, when there is one
+      glb.skeleton = r.skeleton;
+      glb.provenance = avatar_provenance(m, b.avatar);
       glb.extra_vertex_scalar.assign(b.avatar.vertex_sd.data(), b.avatar.vertex_sd.data() + b.avatar.vertex_sd.size());
-      out.body = write_glb(m, b.avatar.rest_vertices, glb);
-      out.download_name = stem + ".glb";
+      out.body = kind == "vrm" ? write_vrm(m, b.avatar.rest_vertices, glb) : write_glb(m, b.avatar.rest_vertices, glb);
+      out.download_name = stem + "." + kind;
+    } else if (kind == "fbx") {
+      out.content_type = "application/octet-stream";  // FBX has no registered media type
+      ExportOptions fbx;
+      fbx.skeleton = r.skeleton;
+      fbx.provenance = avatar_provenance(m, b.avatar);
+      out.body = write_fbx(m, b.avatar.rest_vertices, fbx);
+      out.download_name = stem + ".fbx";
     } else if (kind == "obj") {
       out.content_type = "text/plain; charset=utf-8";
       out.body = write_obj(b.avatar.rest_vertices, m.faces(), m.data().uv_coordinates, m.data().uv_faces,
@@ -554,13 +566,15 @@ struct Api::Impl {
     if (is("GET", "/api/topology")) return topology(req);
     if (is("POST", "/api/avatar")) return avatar(req);
     if (is("POST", "/api/export/glb")) return export_file(req, "glb");
+    if (is("POST", "/api/export/fbx")) return export_file(req, "fbx");
+    if (is("POST", "/api/export/vrm")) return export_file(req, "vrm");
     if (is("POST", "/api/export/obj")) return export_file(req, "obj");
     if (is("POST", "/api/export/report")) return export_file(req, "report");
     if (is("POST", "/api/measurement-set/import")) return import_set(req);
     if (is("POST", "/api/measurement-set/export")) return export_set(req);
     static const std::vector<Route> routes = {
         {"GET", "/api/health"}, {"GET", "/api/models"}, {"GET", "/api/measurements"}, {"GET", "/api/topology"},
-        {"POST", "/api/avatar"}, {"POST", "/api/export/glb"}, {"POST", "/api/export/obj"}, {"POST", "/api/export/report"},
+        {"POST", "/api/avatar"}, {"POST", "/api/export/glb"}, {"POST", "/api/export/fbx"}, {"POST", "/api/export/vrm"}, {"POST", "/api/export/obj"}, {"POST", "/api/export/report"},
         {"POST", "/api/measurement-set/import"}, {"POST", "/api/measurement-set/export"}};
     for (const auto& rt : routes)
       if (req.path == rt.path)

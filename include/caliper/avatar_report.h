@@ -7,9 +7,14 @@
 #include <string>
 
 #include "caliper/avatar.h"
+#include "caliper/export/provenance.h"
 
 namespace caliper {
 
 std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int indent = 2);
+
+// What an exported file says about this avatar: the model's provenance, the regressor and the
+// measurements as requested (SI).
+Provenance avatar_provenance(const BodyModel& model, const Avatar& avatar);
 
 }  // namespace caliper

@@ -16,5 +16,8 @@
 #include "caliper/capture/measurement_set.h"
 #include "caliper/avatar.h"
 #include "caliper/export/gltf.h"
+#include "caliper/export/fbx.h"
+#include "caliper/export/provenance.h"
+#include "caliper/export/rig.h"
 #include "caliper/avatar_report.h"
 #include "caliper/export/uv_atlas.h"

@@ -25,6 +25,8 @@
 
 #include <tiny_gltf.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -39,13 +41,20 @@
 #include <string_view>
 #include <utility>
 
+#include <nlohmann/json.hpp>
+
 #include "caliper/errors.h"
+#include "export_common.h"
 
 #ifndef CALIPER_VERSION
 #define CALIPER_VERSION "unknown"
 #endif
 
 namespace caliper {
+
+using export_detail::Influences;
+using export_detail::top_influences;
+using export_detail::write_file;
 
 namespace {
 
@@ -104,42 +113,6 @@ class BinaryBuilder {
   tinygltf::Model& model_;
   std::vector<unsigned char> data_;
 };
-
-// The 4 largest weights of one vertex (ties broken by the lower joint index, so the output is
-// deterministic), as float weights whose left-to-right float sum is exactly 1.
-struct Influences {
-  std::array<int, 4> joints{0, 0, 0, 0};
-  std::array<float, 4> weights{0, 0, 0, 0};
-};
-
-float float_sum(const std::array<float, 4>& w) { return ((w[0] + w[1]) + w[2]) + w[3]; }
-
-Influences top_influences(const Eigen::SparseMatrix<double, Eigen::RowMajor>& skin, Eigen::Index vertex) {
-  std::vector<std::pair<double, int>> all;
-  for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(skin, vertex); it; ++it)
-    if (it.value() > 0) all.emplace_back(it.value(), static_cast<int>(it.col()));
-  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first > b.first : a.second < b.second;
-  });
-  if (all.size() > 4) all.resize(4);
-  Influences out;
-  if (all.empty()) {  // BodyModel rejects this; keep the vertex bound to the root anyway
-    out.weights[0] = 1.0f;
-    return out;
-  }
-  double kept = 0;
-  for (const auto& [w, j] : all) kept += w;
-  for (size_t k = 0; k < all.size(); ++k) {
-    out.joints[k] = all[k].second;
-    out.weights[k] = static_cast<float>(all[k].first / kept);
-  }
-  // Put the rounding residue on the largest weight, then nudge it by ulps until the float sum is
-  // exactly 1 (the validator and engines check the sum; a few ulps off is a warning in some).
-  out.weights[0] = 1.0f - ((out.weights[1] + out.weights[2]) + out.weights[3]);
-  for (int step = 0; step < 16 && float_sum(out.weights) != 1.0f; ++step)
-    out.weights[0] = std::nextafter(out.weights[0], float_sum(out.weights) < 1.0f ? 2.0f : 0.0f);
-  return out;
-}
 
 void check_inputs(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
   if (rest.rows() != model.vertex_count())
@@ -205,7 +178,10 @@ SplitMesh split_at_uv_seams(const BodyModel& model) {
 
 }  // namespace
 
-std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+namespace {
+
+// The glTF document before its provenance: tinygltf's output, parsed back by write_glb.
+std::string tinygltf_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
   check_inputs(model, rest, options);
   const auto& data = model.data();
   const int joint_count = model.joint_count();
@@ -281,6 +257,22 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
     primitive.attributes["_UNCERTAINTY"] =
         bin.add_accessor(extra, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, n, kArrayBuffer);
   }
+  // Morph targets: shape direction k as a POSITION displacement per written vertex, so weight w
+  // moves the avatar by w standard deviations of β_k (the joints stay where they are).
+  const int morphs = options.morphs ? model.shape_count() : 0;
+  for (int k = 0; k < morphs; ++k) {
+    std::vector<float> d(n * 3);
+    std::vector<double> dmin(3, std::numeric_limits<double>::infinity()), dmax(3, -std::numeric_limits<double>::infinity());
+    for (size_t v = 0; v < n; ++v)
+      for (int c = 0; c < 3; ++c) {
+        const float x = static_cast<float>(data.shape_directions(3 * src(v) + c, k));
+        d[v * 3 + c] = x;
+        dmin[c] = std::min(dmin[c], static_cast<double>(x));
+        dmax[c] = std::max(dmax[c], static_cast<double>(x));
+      }
+    primitive.targets.push_back(
+        {{"POSITION", bin.add_accessor(d, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, kArrayBuffer, dmin, dmax)}});
+  }
 
   // Indices: 16-bit when every index fits below 65535 (that value is the primitive-restart
   // sentinel, which glTF forbids as an index).
@@ -309,37 +301,46 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
   tinygltf::Mesh mesh;
   mesh.name = options.mesh_name;
   mesh.primitives.push_back(std::move(primitive));
+  mesh.weights.assign(static_cast<size_t>(morphs), 0.0);
   gltf.meshes.push_back(std::move(mesh));
 
   tinygltf::Scene scene;
   scene.name = "Caliper avatar";
   if (options.include_skin) {
-    const Eigen::MatrixX3d joints = model.joints(rest);
-    for (int j = 0; j < joint_count; ++j) {
+    // Nodes 0..J−1: the model's joints in its order, node J: the root bone (export/rig.h). The
+    // skin lists them in that order too, so JOINTS_0 holds the model's joint indices and the
+    // root bone, which moves no vertex, comes last.
+    const ExportRig rig = export_rig(model, model.joints(rest), rest, options.skeleton);
+    for (int j = 0; j < rig.size(); ++j) {
       tinygltf::Node node;
-      node.name = data.joint_names[static_cast<size_t>(j)];
-      const int p = data.parents[static_cast<size_t>(j)];
-      const Eigen::RowVector3d t = p < 0 ? Eigen::RowVector3d(joints.row(j)) : Eigen::RowVector3d(joints.row(j) - joints.row(p));
-      node.translation = {t(0), t(1), t(2)};
+      node.name = rig.names[static_cast<size_t>(j)];
+      const Eigen::Vector3d t = rig.local_translation(j);
+      const Eigen::Quaterniond q(rig.local_rotation(j));
+      node.translation = {t.x(), t.y(), t.z()};
+      if (!q.coeffs().isApprox(Eigen::Vector4d(0, 0, 0, 1), 1e-15)) node.rotation = {q.x(), q.y(), q.z(), q.w()};
       gltf.nodes.push_back(std::move(node));
     }
-    for (int j = 1; j < joint_count; ++j)  // BodyModel guarantees parents precede children
-      gltf.nodes[static_cast<size_t>(data.parents[static_cast<size_t>(j)])].children.push_back(j);
+    for (int j = 0; j < rig.size(); ++j)
+      if (const int p = rig.parents[static_cast<size_t>(j)]; p >= 0) gltf.nodes[static_cast<size_t>(p)].children.push_back(j);
 
-    // Inverse bind matrices, column-major: the rest world transform of a joint is a pure
-    // translation to its position, so its inverse translates by −position.
-    std::vector<float> ibm(static_cast<size_t>(joint_count) * 16, 0.0f);
-    for (int j = 0; j < joint_count; ++j) {
+    // Inverse bind matrices, column-major: the inverse of each joint's rest world transform
+    // [R | x], i.e. [Rᵀ | −Rᵀx].
+    std::vector<float> ibm(static_cast<size_t>(rig.size()) * 16, 0.0f);
+    for (int j = 0; j < rig.size(); ++j) {
+      const Eigen::Matrix3d rt = rig.orientations[static_cast<size_t>(j)].transpose();
+      const Eigen::Vector3d t = -rt * rig.positions[static_cast<size_t>(j)];
       float* m = &ibm[static_cast<size_t>(j) * 16];
-      m[0] = m[5] = m[10] = m[15] = 1.0f;
-      for (int c = 0; c < 3; ++c) m[12 + c] = static_cast<float>(-joints(j, c));
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) m[4 * c + r] = static_cast<float>(rt(r, c));
+      for (int r = 0; r < 3; ++r) m[12 + r] = static_cast<float>(t(r));
+      m[15] = 1.0f;
     }
     tinygltf::Skin skin;
     skin.name = "skeleton";
     skin.inverseBindMatrices = bin.add_accessor(ibm, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4,
-                                                static_cast<size_t>(joint_count), 0);
-    skin.skeleton = 0;
-    for (int j = 0; j < joint_count; ++j) skin.joints.push_back(j);
+                                                static_cast<size_t>(rig.size()), 0);
+    skin.skeleton = rig.root;
+    for (int j = 0; j < rig.size(); ++j) skin.joints.push_back(j);
     gltf.skins.push_back(std::move(skin));
 
     tinygltf::Node mesh_node;
@@ -349,9 +350,9 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
     gltf.nodes.push_back(std::move(mesh_node));
     tinygltf::Node armature;
     armature.name = "Armature";
-    armature.children = {0};
+    armature.children = {rig.root};
     gltf.nodes.push_back(std::move(armature));
-    scene.nodes = {joint_count + 1, joint_count};
+    scene.nodes = {rig.size() + 1, rig.size()};
   } else {
     tinygltf::Node mesh_node;
     mesh_node.name = options.mesh_name;
@@ -370,15 +371,145 @@ std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOpt
   return std::move(out).str();
 }
 
+// A GLB's JSON chunk as a document, and the GLB rebuilt around an edited one (the binary chunk
+// kept byte for byte). Only used on tinygltf's own output, whose layout is known.
+nlohmann::json glb_json(const std::string& glb) {
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  return nlohmann::json::parse(glb.substr(20, json_length));
+}
+
+std::string with_glb_json(const std::string& glb, const nlohmann::json& doc) {
+  std::uint32_t json_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  const std::string bin = glb.substr(20 + json_length);
+  std::string text = doc.dump();
+  while (text.size() % 4 != 0) text += ' ';  // the spec pads the JSON chunk with spaces
+  auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const auto total = static_cast<std::uint32_t>(12 + 8 + text.size() + bin.size());
+  return "glTF" + u32(2) + u32(total) + u32(static_cast<std::uint32_t>(text.size())) + "JSON" + text + bin;
+}
+
+nlohmann::json provenance_json(const Provenance& p) {
+  nlohmann::json measurements = nlohmann::json::object();
+  for (const auto& m : measurements_in_edge_units(p)) measurements[m.name] = {{"value", m.value}, {"unit", m.unit}};
+  return {{"body_model", p.body_model},
+          {"model_source", p.model_source},
+          {"licence", p.licence},
+          {"commercial_use", p.commercial_use},
+          {"sex", p.sex},
+          {"regressor", p.regressor},
+          {"measurements", measurements},
+          {"caliper_version", p.caliper_version},
+          {"units", "metres, +Y up, facing +Z"}};
+}
+
+// The GLB's document with the avatar's provenance in asset.copyright and asset.extras.caliper.
+nlohmann::json document_with_provenance(const std::string& glb, const BodyModel& model, const ExportOptions& options) {
+  const Provenance p = options.provenance.value_or(model_provenance(model));
+  nlohmann::json doc = glb_json(glb);
+  doc["asset"]["copyright"] = provenance_notice(p);
+  doc["asset"]["extras"]["caliper"] = provenance_json(p);
+  doc["asset"]["extras"]["caliper"]["skeleton"] = to_string(options.skeleton);
+  if (options.morphs && model.shape_count() > 0) {  // names Blender and three.js show for the targets
+    nlohmann::json names = nlohmann::json::array();
+    for (int k = 0; k < model.shape_count(); ++k) names.push_back("shape_" + std::to_string(k));
+    doc["meshes"][0]["extras"]["targetNames"] = names;
+  }
+  return doc;
+}
+
+}  // namespace
+
 namespace {
 
-void write_file(const std::string& path, const std::string& bytes) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) throw Error(ErrorKind::Io, "cannot open '" + path + "' for writing", path);
-  file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  file.close();
-  if (!file) throw Error(ErrorKind::Io, "cannot write '" + path + "'", path);
+// VRM 1.0's required humanoid bones (VRMC_vrm-1.0 humanoid.md).
+constexpr const char* kVrmRequired[] = {"hips",         "spine",        "head",          "leftUpperLeg",
+                                        "leftLowerLeg", "leftFoot",     "rightUpperLeg", "rightLowerLeg",
+                                        "rightFoot",    "leftUpperArm", "leftLowerArm",  "leftHand",
+                                        "rightUpperArm", "rightLowerArm", "rightHand"};
+
+// The point between the eyes, estimated from the mesh: at the head joint's x, at 93.3 % of the
+// standing height (eye height over stature in adult anthropometric surveys), 1 cm behind the
+// frontmost surface of the face at that height.
+Eigen::Vector3d estimated_eye_point(const Vertices& rest, const Eigen::Vector3d& head) {
+  const double floor = rest.col(1).minCoeff(), crown = rest.col(1).maxCoeff();
+  const double eye_y = floor + 0.933 * (crown - floor);
+  double front = head.z();
+  for (Eigen::Index v = 0; v < rest.rows(); ++v)
+    if (std::abs(rest(v, 1) - eye_y) < 0.02 && std::abs(rest(v, 0) - head.x()) < 0.08) front = std::max(front, rest(v, 2));
+  return {head.x(), eye_y, std::max(head.z(), front - 0.01)};
 }
+
+nlohmann::json vrm_meta(const Provenance& p) {
+  nlohmann::json meta = {
+      {"name", "Caliper avatar (" + p.body_model + ")"},
+      {"version", p.caliper_version},
+      {"authors", {"Caliper " + p.caliper_version}},
+      {"copyrightInformation", provenance_notice(p)},
+      {"thirdPartyLicenses", "Body model " + p.body_model + ": " + p.licence + (p.model_source.empty() ? "" : "; source: " + p.model_source)},
+      {"licenseUrl", "https://vrm.dev/licenses/1.0/"},
+      {"avatarPermission", "everyone"},
+      {"allowExcessivelyViolentUsage", false},
+      {"allowExcessivelySexualUsage", false},
+      {"allowPoliticalOrReligiousUsage", false},
+      {"allowAntisocialOrHateUsage", false},
+      {"creditNotation", "unnecessary"},
+      // A licence that forbids commercial use forbids it for the avatar too, and its body model's
+      // terms (SMPL: no redistribution) travel with it.
+      {"commercialUsage", p.commercial_use ? "corporation" : "personalNonProfit"},
+      {"allowRedistribution", p.commercial_use},
+      {"modification", p.commercial_use ? "allowModificationRedistribution" : "allowModification"}};
+  if (!p.measurements.empty()) meta["references"] = {"measurements: " + measurements_text(p)};
+  return meta;
+}
+
+}  // namespace
+
+std::string write_vrm(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+  GlbOptions skinned = options;
+  skinned.include_skin = true;
+  const std::string glb = tinygltf_glb(model, rest, skinned);
+  nlohmann::json doc = document_with_provenance(glb, model, skinned);
+  const ExportRig rig = export_rig(model, model.joints(rest), rest, skinned.skeleton);
+  nlohmann::json bones = nlohmann::json::object();
+  int head = -1;
+  for (int j = 0; j < model.joint_count(); ++j) {  // node j is model joint j (tinygltf_glb)
+    const HumanoidBone* b = find_humanoid_bone(rig.model_names[static_cast<size_t>(j)]);
+    if (b && *b->vrm) bones[b->vrm] = {{"node", j}};
+    if (b && std::string(b->vrm) == "head") head = j;
+  }
+  for (const char* required : kVrmRequired)
+    if (!bones.contains(required))
+      throw Error(ErrorKind::Unsupported,
+                  "VRM export: model '" + model.name() + "' has no joint for VRM's required bone '" + required +
+                      "' (VRM needs SMPL's joint names)",
+                  required);
+  const Eigen::Vector3d head_at = rig.positions[static_cast<size_t>(head)];
+  const Eigen::Vector3d offset =
+      rig.orientations[static_cast<size_t>(head)].transpose() * (estimated_eye_point(rest, head_at) - head_at);
+  const Provenance p = skinned.provenance.value_or(model_provenance(model));
+  doc["extensionsUsed"].push_back("VRMC_vrm");
+  doc["extensions"]["VRMC_vrm"] = {
+      {"specVersion", "1.0"},
+      {"meta", vrm_meta(p)},
+      {"humanoid", {{"humanBones", bones}}},
+      {"expressions", {{"preset", nlohmann::json::object()}, {"custom", nlohmann::json::object()}}},  // none: a plain body
+      {"firstPerson", {{"meshAnnotations", {{{"node", rig.size()}, {"type", "auto"}}}}}},  // node J+1: the mesh
+      {"lookAt", {{"offsetFromHeadBone", {offset.x(), offset.y(), offset.z()}}, {"type", "bone"}}}};
+  return with_glb_json(glb, doc);
+}
+
+void save_vrm(const std::string& path, const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+  write_file(path, write_vrm(model, rest, options));
+}
+
+std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+  const std::string glb = tinygltf_glb(model, rest, options);
+  return with_glb_json(glb, document_with_provenance(glb, model, options));
+}
+
+namespace {
 
 // Shortest decimal that reads back to the same double: exact OBJ round trips, locale-free.
 void append_number(std::string& out, double value) {

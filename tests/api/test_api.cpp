@@ -302,7 +302,7 @@ TEST_F(ApiTest, BadRequestsAreRefusedWithJsonErrors) {
 // client's mistake (400), on every endpoint that reads a JSON body.
 TEST_F(ApiTest, NumbersTooLargeForADoubleAreA400NamingTheBody) {
   const std::string huge = R"({"sex":"female","measurements":{"stature":1e999,"weight":60}})";
-  for (const char* path : {"/api/avatar", "/api/export/glb", "/api/export/obj", "/api/export/report",
+  for (const char* path : {"/api/avatar", "/api/export/glb", "/api/export/fbx", "/api/export/obj", "/api/export/report",
                            "/api/measurement-set/import", "/api/measurement-set/export"}) {
     json e = expect_error(call("POST", path, huge), 400, "body");
     EXPECT_EQ(e["kind"], "invalid_argument") << path;
@@ -323,7 +323,7 @@ TEST_F(ApiTest, UnknownFieldMessagesListWhatTheEndpointAccepts) {
   body["mesh"] = false;
   EXPECT_EQ(call("POST", "/api/avatar", body.dump()).status, 200);
   e = expect_error(call("POST", "/api/export/obj", body.dump()), 400, "mesh");
-  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd, force)"), std::string::npos) << e;
+  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd, force, skeleton)"), std::string::npos) << e;
 }
 
 // The viewer's pose: t (the default, the rest pose), a or stride on /api/avatar; anything else is
@@ -415,6 +415,35 @@ TEST_F(ApiTest, ExportsAreTheFilesTheyClaimToBe) {
   EXPECT_NEAR(r["measurements"]["stature"]["requested_cm"].get<double>(), 168.0, 1e-9);
   // Exports take no "mesh" flag; bad values are refused as for /api/avatar.
   expect_error(call("POST", "/api/export/glb", avatar_body(9999, 60).dump()), 400, "stature");
+}
+
+// The exports name their bones after SMPL or Unity's Humanoid, and say where the avatar came from.
+TEST_F(ApiTest, ExportsTakeASkeletonNamingAndCarryProvenance) {
+  json body = avatar_body(168, 62);
+  body["skeleton"] = "humanoid";
+  ApiResponse glb = call("POST", "/api/export/glb", body.dump());
+  ASSERT_EQ(glb.status, 200) << glb.body;
+  std::uint32_t length = 0;
+  std::memcpy(&length, glb.body.data() + 12, 4);
+  const json doc = json::parse(glb.body.substr(20, length));
+  std::set<std::string> names;
+  for (const auto& n : doc["nodes"]) names.insert(n.value("name", ""));
+  EXPECT_TRUE(names.count("Hips") && names.count("LeftUpperArm") && names.count("Root")) << doc["nodes"].dump();
+  EXPECT_FALSE(names.count("pelvis"));
+  EXPECT_EQ(doc["asset"]["extras"]["caliper"]["body_model"], "toy-female");
+  EXPECT_NEAR(doc["asset"]["extras"]["caliper"]["measurements"]["stature"]["value"].get<double>(), 168.0, 1e-9);
+  ApiResponse vrm = call("POST", "/api/export/vrm", body.dump());
+  ASSERT_EQ(vrm.status, 200) << vrm.body;
+  EXPECT_EQ(vrm.download_name.substr(vrm.download_name.size() - 4), ".vrm");
+  EXPECT_NE(vrm.body.find("VRMC_vrm"), std::string::npos);
+  ApiResponse fbx = call("POST", "/api/export/fbx", body.dump());
+  ASSERT_EQ(fbx.status, 200) << fbx.body;
+  EXPECT_EQ(fbx.body.substr(0, 18), "Kaydara FBX Binary");
+  EXPECT_EQ(fbx.download_name.substr(fbx.download_name.size() - 4), ".fbx");
+  EXPECT_NE(fbx.body.find("toy-female"), std::string::npos);
+  body["skeleton"] = "mixamo";
+  const json e = expect_error(call("POST", "/api/export/glb", body.dump()), 400, "skeleton");
+  EXPECT_NE(e["message"].get<std::string>().find("'smpl' or 'humanoid'"), std::string::npos) << e;
 }
 
 TEST_F(ApiTest, CsvMeasurementSetsAreReadWithUnitsHeadersAndComments) {

@@ -43,7 +43,17 @@ says "[50, 250] cm" "absurd stature gives the range"
 expect 3 "infinite span" "$CALIPER" avatar --height 170 --weight 60 --arm-span inf -o "$TMP/a.glb"
 says "span" "infinite span names the field"
 expect 3 "bad sex" "$CALIPER" avatar --sex robot --height 170 --weight 60 -o "$TMP/a.glb"
-expect 3 "bad output extension" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/a.fbx"
+expect 3 "bad output extension" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/a.stl"
+expect 3 "bad skeleton naming" "$CALIPER" avatar --height 170 --weight 60 --skeleton mixamo -o "$TMP/a.glb"
+says "'smpl' or 'humanoid'" "the skeleton error lists the namings"
+expect 0 "FBX export" "$CALIPER" avatar --height 170 --weight 60 --skeleton humanoid -o "$TMP/a.fbx" -q
+head -c 18 "$TMP/a.fbx" >"$TMP/out"
+says "Kaydara FBX Binary" "the .fbx is a binary FBX"
+expect 0 "VRM export" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/a.vrm" -q --morphs
+expect 3 "--morphs in an FBX" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/b.fbx" --morphs
+says "only .glb and .vrm" "the --morphs error says which files take it"
+grep -c "VRMC_vrm" "$TMP/a.vrm" >"$TMP/out"
+says "1" "the .vrm has the VRMC_vrm extension"
 expect 3 "bad --set" "$CALIPER" avatar --height 170 --weight 60 --set chest_circumference=abc -o "$TMP/a.glb"
 expect 3 "ISAK with one value is a usage error" "$CALIPER" isak 170 -1
 expect 2 "ISAK with four values" "$CALIPER" isak 1 2 3 4

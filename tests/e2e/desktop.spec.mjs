@@ -319,6 +319,12 @@ try {
   try { summary = JSON.parse(v.stdout.trim().split('\n').pop()); } catch { /* reported below */ }
   check(v.status === 0 && summary.numErrors === 0, 'the exported .glb passes the glTF validator', v.stdout + v.stderr);
   check(summary.info?.hasSkins === true, 'the exported .glb is rigged (has a skin)');
+  // And the .fbx button downloads a binary FBX.
+  const [fbxDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-fbx')]);
+  const fbx = join(tmp, fbxDownload.suggestedFilename());
+  await fbxDownload.saveAs(fbx);
+  check(/\.fbx$/.test(fbx) && readFileSync(fbx).subarray(0, 18).toString('latin1') === 'Kaydara FBX Binary',
+    'the .fbx export is a binary FBX', fbx);
 
   // A set the server refuses: its message, with the range once.
   await page.setInputFiles('#import-file', { name: 'bad.csv', mimeType: 'text/csv', buffer: Buffer.from('measurement,value,unit\nheight,400,cm\n') });

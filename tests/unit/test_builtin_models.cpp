@@ -202,8 +202,35 @@ TEST_P(BuiltinModel, GlbReadsBackInAssimpWithTheSameCounts) {
   for (int v = 0; v < m->vertex_count(); v += 97)
     for (int c = 0; c < 3; ++c) ASSERT_NEAR(mesh->mVertices[v][c], rest(v, c), 1e-6);
   EXPECT_EQ(static_cast<int>(mesh->mNumFaces), m->face_count());
-  EXPECT_EQ(static_cast<int>(mesh->mNumBones), m->joint_count());
+  EXPECT_EQ(static_cast<int>(mesh->mNumBones), m->joint_count() + 1);  // and the root bone
   // Every vertex's weights sum to 1 across the bones.
+  std::vector<double> sums(mesh->mNumVertices, 0.0);
+  for (unsigned b = 0; b < mesh->mNumBones; ++b)
+    for (unsigned w = 0; w < mesh->mBones[b]->mNumWeights; ++w)
+      sums[mesh->mBones[b]->mWeights[w].mVertexId] += mesh->mBones[b]->mWeights[w].mWeight;
+  for (double s : sums) ASSERT_NEAR(s, 1.0, 1e-5);
+}
+
+// The FBX of the real body, read back by Assimp: every triangle, every joint and the root bone,
+// weights summing to 1, the avatar's height in metres.
+TEST_P(BuiltinModel, FbxReadsBackInAssimpWithTheSameCounts) {
+  const auto m = model(GetParam());
+  const Vertices rest = m->rest_vertices(Eigen::VectorXd::Constant(m->shape_count(), 0.5));
+  const std::string bytes = write_fbx(*m, rest);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(),
+                                                     aiProcess_ValidateDataStructure | aiProcess_JoinIdenticalVertices, "fbx");
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  ASSERT_EQ(scene->mNumMeshes, 1u);
+  const aiMesh* mesh = scene->mMeshes[0];
+  EXPECT_EQ(static_cast<int>(mesh->mNumFaces), m->face_count());
+  EXPECT_GE(static_cast<int>(mesh->mNumVertices), m->vertex_count());  // split along UV seams only
+  EXPECT_LT(static_cast<int>(mesh->mNumVertices), m->vertex_count() * 11 / 10);
+  EXPECT_TRUE(mesh->HasTextureCoords(0));
+  EXPECT_EQ(static_cast<int>(mesh->mNumBones), m->joint_count() + 1);
+  double lo = 1e9, hi = -1e9;
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) lo = std::min<double>(lo, mesh->mVertices[v].y), hi = std::max<double>(hi, mesh->mVertices[v].y);
+  EXPECT_NEAR(hi - lo, rest.col(1).maxCoeff() - rest.col(1).minCoeff(), 1e-5);
   std::vector<double> sums(mesh->mNumVertices, 0.0);
   for (unsigned b = 0; b < mesh->mNumBones; ++b)
     for (unsigned w = 0; w < mesh->mBones[b]->mNumWeights; ++w)

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -18,6 +19,7 @@
 #include "caliper/body/body_model.h"
 #include "caliper/body/mesh.h"
 #include "caliper/errors.h"
+#include "caliper/export/fbx.h"
 #include "caliper/export/gltf.h"
 #include "fixtures.h"
 
@@ -221,7 +223,7 @@ TEST(Glb, HeaderChunksAndCounts) {
   ASSERT_EQ(d["meshes"].size(), 1u);
   ASSERT_EQ(d["meshes"][0]["primitives"].size(), 1u);
   ASSERT_EQ(d["skins"].size(), 1u);
-  EXPECT_EQ(d["nodes"].size(), 24u + 2u);
+  EXPECT_EQ(d["nodes"].size(), 24u + 1u + 2u);  // joints, the root bone, the mesh, the Armature
   EXPECT_EQ(d["meshes"][0]["name"], "avatar");
   const json& prim = d["meshes"][0]["primitives"][0];
   EXPECT_EQ(prim.value("mode", 4), 4);
@@ -260,53 +262,78 @@ TEST(Glb, PositionsNormalsAndIndicesMatchTheMesh) {
     for (int c = 0; c < 3; ++c) EXPECT_EQ(idx[static_cast<size_t>(3 * t + c)], f(t, c));
 }
 
-TEST(Glb, JointHierarchyTranslationsAndInverseBindMatrices) {
-  const Vertices rest = tube().rest_vertices(Eigen::Vector2d(0.5, 2.0));
-  const Glb g = parse_glb(caliper::write_glb(tube(), rest));
-  const json& nodes = g.doc["nodes"];
-  const auto& names = caliper::smpl_joint_names();
-  const auto& parents = caliper::smpl_parents();
-  // Expected joint positions straight from the regressor's definition (vertex 1 + j, or a midpoint).
-  auto joint = [&](int j) -> Eigen::RowVector3d {
-    return j < 22 ? Eigen::RowVector3d(rest.row(1 + j)) : Eigen::RowVector3d(0.5 * (rest.row(23) + rest.row(24)));
-  };
-  const json& skin = g.doc["skins"][0];
-  ASSERT_EQ(skin["joints"].size(), 24u);
-  const int root = skin["skeleton"];
-  EXPECT_EQ(nodes[root]["name"], "pelvis");
+// A node's rest world transform, composed from the document's TRS chain (independent of the
+// writer's rig code).
+Eigen::Affine3d node_world(const json& nodes, const std::vector<int>& parent_of, int node) {
+  Eigen::Affine3d local = Eigen::Affine3d::Identity();
+  const json& n = nodes[node];
+  if (n.contains("translation")) {
+    const auto t = n["translation"].get<std::vector<double>>();
+    local.translate(Eigen::Vector3d(t[0], t[1], t[2]));
+  }
+  if (n.contains("rotation")) {
+    const auto q = n["rotation"].get<std::vector<double>>();
+    local.rotate(Eigen::Quaterniond(q[3], q[0], q[1], q[2]));
+  }
+  const int p = parent_of[static_cast<size_t>(node)];
+  return p < 0 ? local : node_world(nodes, parent_of, p) * local;
+}
+
+std::vector<int> node_parents(const json& nodes) {
   std::vector<int> parent_of(nodes.size(), -1);
   for (size_t i = 0; i < nodes.size(); ++i)
     for (int c : nodes[i].value("children", std::vector<int>{})) {
       EXPECT_EQ(parent_of[static_cast<size_t>(c)], -1) << "node with two parents";
       parent_of[static_cast<size_t>(c)] = static_cast<int>(i);
     }
+  return parent_of;
+}
+
+TEST(Glb, JointHierarchyRestTransformsAndInverseBindMatrices) {
+  const Vertices rest = tube().rest_vertices(Eigen::Vector2d(0.5, 2.0));
+  const Glb g = parse_glb(caliper::write_glb(tube(), rest));
+  const json& nodes = g.doc["nodes"];
+  const auto& names = caliper::smpl_joint_names();
+  const auto& parents = caliper::smpl_parents();
+  // Expected joint positions straight from the regressor's definition (vertex 1 + j, or a midpoint).
+  auto joint = [&](int j) -> Eigen::Vector3d {
+    return j < 22 ? Eigen::Vector3d(rest.row(1 + j).transpose()) : Eigen::Vector3d(0.5 * (rest.row(23) + rest.row(24)).transpose());
+  };
+  const json& skin = g.doc["skins"][0];
+  ASSERT_EQ(skin["joints"].size(), 25u);  // SMPL's 24 in SMPL's order, then the root bone
+  const int root = skin["skeleton"];
+  EXPECT_EQ(skin["joints"][24].get<int>(), root);
+  EXPECT_EQ(nodes[root]["name"], "root");
+  const std::vector<int> parent_of = node_parents(nodes);
   const std::vector<double> ibm = g.read(skin["inverseBindMatrices"].get<int>());
-  ASSERT_EQ(ibm.size(), 24u * 16u);
-  for (int j = 0; j < 24; ++j) {
+  ASSERT_EQ(ibm.size(), 25u * 16u);
+  // The root bone stands on the floor (the lowest vertex, y = 0 here) under the pelvis.
+  const Eigen::Affine3d root_world = node_world(nodes, parent_of, root);
+  EXPECT_NEAR(root_world.translation().x(), joint(0).x(), 1e-9);
+  EXPECT_NEAR(root_world.translation().y(), rest.col(1).minCoeff(), 1e-9);
+  EXPECT_NEAR(root_world.translation().z(), joint(0).z(), 1e-9);
+  const int arm = parent_of[static_cast<size_t>(root)];
+  ASSERT_GE(arm, 0);
+  EXPECT_EQ(nodes[arm]["name"], "Armature");
+  EXPECT_FALSE(nodes[arm].contains("translation"));
+  EXPECT_EQ(parent_of[static_cast<size_t>(arm)], -1);
+  for (int j = 0; j < 25; ++j) {
     const int node = skin["joints"][j];
-    EXPECT_EQ(nodes[node]["name"], names[j]);
-    EXPECT_FALSE(nodes[node].contains("rotation"));
-    EXPECT_FALSE(nodes[node].contains("mesh"));
-    const Eigen::RowVector3d expected = parents[j] < 0 ? joint(j) : Eigen::RowVector3d(joint(j) - joint(parents[j]));
-    const auto t = nodes[node]["translation"].get<std::vector<double>>();
-    ASSERT_EQ(t.size(), 3u);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(t[c], expected(c), 1e-12) << names[j];
-    if (parents[j] >= 0) {
-      EXPECT_EQ(parent_of[static_cast<size_t>(node)], skin["joints"][parents[j]].get<int>()) << names[j];
-    } else {
-      // The root joint hangs from the Armature, which is a scene root without a transform.
-      const int arm = parent_of[static_cast<size_t>(node)];
-      ASSERT_GE(arm, 0);
-      EXPECT_EQ(nodes[arm]["name"], "Armature");
-      EXPECT_FALSE(nodes[arm].contains("translation"));
-      EXPECT_EQ(parent_of[static_cast<size_t>(arm)], -1);
+    const Eigen::Affine3d world = node_world(nodes, parent_of, node);
+    if (j < 24) {
+      EXPECT_EQ(nodes[node]["name"], names[j]);
+      EXPECT_FALSE(nodes[node].contains("mesh"));
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(world.translation()(c), joint(j)(c), 1e-9) << names[j];
+      const int expected_parent = parents[j] < 0 ? root : skin["joints"][parents[j]].get<int>();
+      EXPECT_EQ(parent_of[static_cast<size_t>(node)], expected_parent) << names[j];
     }
-    // IBM = translate(−joint), column-major.
+    // A pure rotation, no scale.
+    EXPECT_TRUE((world.linear().transpose() * world.linear()).isIdentity(1e-9)) << j;
+    EXPECT_NEAR(world.linear().determinant(), 1.0, 1e-9) << j;
+    // IBM = the inverse of the joint's rest world transform, column-major.
+    const Eigen::Matrix4d want = world.inverse().matrix();
     for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) {
-        const double want = c == 3 && r < 3 ? -joint(j)(r) : (r == c ? 1.0 : 0.0);
-        EXPECT_NEAR(ibm[static_cast<size_t>(16 * j + 4 * c + r)], want, 1e-6) << names[j] << " " << r << "," << c;
-      }
+      for (int c = 0; c < 4; ++c) EXPECT_NEAR(ibm[static_cast<size_t>(16 * j + 4 * c + r)], want(r, c), 1e-6) << j << " " << r << "," << c;
   }
   // The skinned mesh node is a scene root with no transform and no children.
   int mesh_node = -1;
@@ -318,8 +345,35 @@ TEST(Glb, JointHierarchyTranslationsAndInverseBindMatrices) {
   EXPECT_FALSE(nodes[mesh_node].contains("translation"));
   EXPECT_FALSE(nodes[mesh_node].contains("children"));
   const auto scene_nodes = g.doc["scenes"][g.doc.value("scene", 0)]["nodes"].get<std::vector<int>>();
-  EXPECT_EQ(std::set<int>(scene_nodes.begin(), scene_nodes.end()),
-            (std::set<int>{mesh_node, parent_of[static_cast<size_t>(root)]}));
+  EXPECT_EQ(std::set<int>(scene_nodes.begin(), scene_nodes.end()), (std::set<int>{mesh_node, arm}));
+}
+
+// Each bone's local +Y axis points at its child (Blender draws bones along it; Unity and VRM
+// retarget along it): the one child, spine1 for the pelvis, neck for spine3, the pelvis for the
+// root bone; a leaf continues its parent's axis.
+TEST(Glb, EachBonePointsAtItsChild) {
+  const Vertices rest = tube().rest_vertices(Eigen::Vector2d(0.3, 1.0));
+  const Glb g = parse_glb(caliper::write_glb(tube(), rest));
+  const json& nodes = g.doc["nodes"];
+  const std::vector<int> parent_of = node_parents(nodes);
+  const json& skin = g.doc["skins"][0];
+  std::map<std::string, int> node_of;
+  for (const auto& n : skin["joints"]) node_of[nodes[n.get<int>()]["name"]] = n.get<int>();
+  auto axis = [&](const std::string& name) { return Eigen::Vector3d(node_world(nodes, parent_of, node_of.at(name)).linear().col(1)); };
+  auto at = [&](const std::string& name) { return Eigen::Vector3d(node_world(nodes, parent_of, node_of.at(name)).translation()); };
+  const std::pair<const char*, const char*> bones[] = {
+      {"root", "pelvis"},          {"pelvis", "spine1"},         {"spine1", "spine2"},     {"spine3", "neck"},
+      {"neck", "head"},            {"left_hip", "left_knee"},    {"left_knee", "left_ankle"}, {"left_ankle", "left_foot"},
+      {"left_collar", "left_shoulder"}, {"left_shoulder", "left_elbow"}, {"left_elbow", "left_wrist"},
+      {"right_wrist", "right_hand"}};
+  for (const auto& [bone, child] : bones) {
+    const Eigen::Vector3d to_child = (at(child) - at(bone)).normalized();
+    EXPECT_GT(axis(bone).dot(to_child), 1 - 1e-9) << bone << " → " << child;
+  }
+  for (const char* leaf : {"head", "left_foot", "left_hand"}) {
+    const std::string parent = nodes[parent_of[static_cast<size_t>(node_of.at(leaf))]]["name"];
+    EXPECT_GT(axis(leaf).dot(axis(parent)), 1 - 1e-9) << leaf;
+  }
 }
 
 TEST(Glb, FourLargestWeightsSumToOneInFloat) {
@@ -374,6 +428,29 @@ TEST(Glb, WithoutSkinIsAPlainMesh) {
   EXPECT_EQ(g.attribute("WEIGHTS_0"), -1);
   ASSERT_EQ(g.doc["nodes"].size(), 1u);
   EXPECT_EQ(g.doc["nodes"][0]["name"], "plain");
+}
+
+// --morphs: one POSITION target per shape direction, weight 0, named; the tube's directions are
+// "taller by 1 % of the height" (β0) and "vertex 5 moves 2 cm along x" (β1).
+TEST(Glb, MorphTargetsAreTheShapeDirections) {
+  caliper::GlbOptions options;
+  options.morphs = true;
+  const Vertices rest = tube().rest_vertices(Eigen::Vector2d(0.5, 0.0));
+  const Glb g = parse_glb(caliper::write_glb(tube(), rest, options));
+  const json& mesh = g.doc["meshes"][0];
+  ASSERT_EQ(mesh["primitives"][0]["targets"].size(), 2u);
+  EXPECT_EQ(mesh["weights"], json::array({0.0, 0.0}));
+  EXPECT_EQ(mesh["extras"]["targetNames"], json::array({"shape_0", "shape_1"}));
+  const std::vector<double> taller = g.read(mesh["primitives"][0]["targets"][0]["POSITION"].get<int>());
+  const std::vector<double> moved = g.read(mesh["primitives"][0]["targets"][1]["POSITION"].get<int>());
+  const Vertices& t = tube().data().template_vertices;
+  for (int v = 0; v < kVertices; ++v) {
+    EXPECT_NEAR(taller[3 * v + 1], 0.01 * t(v, 1), 1e-7) << v;
+    EXPECT_EQ(taller[3 * v], 0.0);
+    EXPECT_EQ(moved[3 * v], v == 5 ? 0.02f : 0.0f) << v;
+  }
+  // Off by default.
+  EXPECT_FALSE(parse_glb(caliper::write_glb(tube(), rest)).doc["meshes"][0]["primitives"][0].contains("targets"));
 }
 
 TEST(Glb, UncertaintyBecomesACustomAttribute) {
@@ -444,7 +521,7 @@ TEST(Glb, LargeModelsUseWideIndicesAndJoints) {
   const std::vector<double> j = g.read(g.attribute("JOINTS_0"));
   EXPECT_EQ(j[4 * 299], 299);
   EXPECT_EQ(j[4 * 69999], 69999 % joints);
-  EXPECT_EQ(g.doc["skins"][0]["joints"].size(), static_cast<size_t>(joints));
+  EXPECT_EQ(g.doc["skins"][0]["joints"].size(), static_cast<size_t>(joints) + 1);  // and the root bone
 }
 
 // ---- independent readers ----------------------------------------------------------------------
@@ -463,7 +540,7 @@ TEST(GlbAssimp, ReadsBackSkinnedMesh) {
   for (int v = 0; v < kVertices; ++v)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(mesh->mVertices[v][c], rest(v, c), 1e-6);
   ASSERT_TRUE(mesh->HasBones());
-  EXPECT_EQ(mesh->mNumBones, 24u);
+  EXPECT_GE(mesh->mNumBones, 24u);  // the root bone moves no vertex: Assimp may leave it out
   std::vector<double> sum(kVertices, 0.0);
   unsigned total = 0;
   std::set<std::string> bone_names;
@@ -479,18 +556,114 @@ TEST(GlbAssimp, ReadsBackSkinnedMesh) {
   }
   for (int v = 0; v < kVertices; ++v) EXPECT_NEAR(sum[v], 1.0, 1e-6) << "vertex " << v;
   EXPECT_EQ(total, static_cast<unsigned>(kInfluencesWritten));
-  const auto& names = caliper::smpl_joint_names();
+  auto names = caliper::smpl_joint_names();
+  bone_names.erase("root");
   EXPECT_EQ(bone_names, std::set<std::string>(names.begin(), names.end()));
-  // The pelvis bone's offset matrix is our inverse bind matrix: translate(−pelvis) = −vertex 1.
+  // The pelvis bone's offset matrix is our inverse bind matrix: it takes the pelvis (vertex 1)
+  // to the origin.
   for (unsigned b = 0; b < mesh->mNumBones; ++b)
     if (std::string(mesh->mBones[b]->mName.C_Str()) == "pelvis") {
-      EXPECT_NEAR(mesh->mBones[b]->mOffsetMatrix.a4, -rest(1, 0), 1e-6);
-      EXPECT_NEAR(mesh->mBones[b]->mOffsetMatrix.b4, -rest(1, 1), 1e-6);
-      EXPECT_NEAR(mesh->mBones[b]->mOffsetMatrix.c4, -rest(1, 2), 1e-6);
+      const aiVector3D p = mesh->mBones[b]->mOffsetMatrix * aiVector3D(rest(1, 0), rest(1, 1), rest(1, 2));
+      EXPECT_NEAR(p.Length(), 0.0, 1e-6);
     }
+}
+
+// FBX read back by Assimp, an independent reader: the mesh at its size (metres, declared by
+// UnitScaleFactor 100), the node tree root → pelvis → …, every vertex's weights summing to 1,
+// and each bone's offset (inverse bind) matrix taking its joint to the origin.
+TEST(FbxAssimp, ReadsBackMeshSkeletonWeightsAndBindPose) {
+  const Vertices rest = tube().rest_vertices(Eigen::Vector2d(1.0, 1.0));
+  const std::string bytes = caliper::write_fbx(tube(), rest);
+  ASSERT_GT(bytes.size(), 27u);
+  EXPECT_EQ(bytes.substr(0, 21), std::string("Kaydara FBX Binary  \0", 21));
+  std::uint32_t version = 0;
+  std::memcpy(&version, bytes.data() + 23, 4);
+  EXPECT_EQ(version, 7400u);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(
+      bytes.data(), bytes.size(), aiProcess_ValidateDataStructure | aiProcess_JoinIdenticalVertices, "fbx");
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  ASSERT_EQ(scene->mNumMeshes, 1u);
+  const aiMesh* mesh = scene->mMeshes[0];
+  EXPECT_EQ(mesh->mNumVertices, static_cast<unsigned>(kVertices));
+  EXPECT_EQ(mesh->mNumFaces, static_cast<unsigned>(tube().face_count()));
+  // Every written vertex is one of the model's, at the model's position (metres, no scaling).
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+    double best = 1e9;
+    for (int k = 0; k < kVertices; ++k)
+      best = std::min(best, (Eigen::Vector3d(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z) - rest.row(k).transpose()).norm());
+    EXPECT_LT(best, 1e-6) << "vertex " << v;
+  }
+  ASSERT_NE(scene->mMetaData, nullptr);
+  double scale = 0;
+  float scale_f = 0;  // Assimp keeps FBX doubles as float or double depending on the version
+  if (!scene->mMetaData->Get("UnitScaleFactor", scale) && scene->mMetaData->Get("UnitScaleFactor", scale_f)) scale = scale_f;
+  EXPECT_EQ(scale, 100.0);
+  int up = -1;
+  ASSERT_TRUE(scene->mMetaData->Get("UpAxis", up));
+  EXPECT_EQ(up, 1);
+  // Weights: per vertex (by position) they sum to 1.
+  std::vector<double> sum(mesh->mNumVertices, 0.0);
+  std::map<std::string, const aiBone*> bones;
+  for (unsigned b = 0; b < mesh->mNumBones; ++b) {
+    const aiBone* bone = mesh->mBones[b];
+    bones[bone->mName.C_Str()] = bone;
+    for (unsigned k = 0; k < bone->mNumWeights; ++k) sum[bone->mWeights[k].mVertexId] += bone->mWeights[k].mWeight;
+  }
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) EXPECT_NEAR(sum[v], 1.0, 1e-6) << "vertex " << v;
+  EXPECT_GE(bones.size(), 24u);
+  // Bind pose: each joint's offset matrix maps the joint's rest position to the origin.
+  auto joint = [&](int j) -> Eigen::Vector3d {
+    return j < 22 ? Eigen::Vector3d(rest.row(1 + j).transpose()) : Eigen::Vector3d(0.5 * (rest.row(23) + rest.row(24)).transpose());
+  };
+  const auto& names = caliper::smpl_joint_names();
+  for (int j = 0; j < 24; ++j) {
+    const auto it = bones.find(names[j]);
+    if (it == bones.end()) continue;  // a joint that moves no vertex has no bone in Assimp
+    const aiVector3D p = it->second->mOffsetMatrix * aiVector3D(joint(j).x(), joint(j).y(), joint(j).z());
+    EXPECT_LT(p.Length(), 1e-6) << names[j];
+  }
+  // The node tree: root (on the floor) → pelvis → left_hip → left_knee, at the joints' places.
+  const aiNode* root = scene->mRootNode->FindNode("root");
+  ASSERT_NE(root, nullptr);
+  const aiNode* pelvis = root->FindNode("pelvis");
+  ASSERT_NE(pelvis, nullptr);
+  EXPECT_EQ(pelvis->mParent, root);
+  const aiNode* knee = scene->mRootNode->FindNode("left_knee");
+  ASSERT_NE(knee, nullptr);
+  EXPECT_EQ(std::string(knee->mParent->mName.C_Str()), "left_hip");
+  aiMatrix4x4 world;
+  for (const aiNode* n = knee; n; n = n->mParent) world = n->mTransformation * world;
+  const aiVector3D at = world * aiVector3D(0, 0, 0);
+  EXPECT_NEAR(at.x, joint(4).x(), 1e-6);
+  EXPECT_NEAR(at.y, joint(4).y(), 1e-6);
+  EXPECT_NEAR(at.z, joint(4).z(), 1e-6);
+}
+
+TEST(FbxAssimp, HumanoidNamesAndProvenanceProperties) {
+  caliper::ExportOptions options;
+  options.skeleton = caliper::SkeletonNaming::Humanoid;
+  const std::string bytes = caliper::write_fbx(tube(), tube().data().template_vertices, options);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_ValidateDataStructure, "fbx");
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  for (const char* name : {"Root", "Hips", "LeftUpperLeg", "LeftFoot", "LeftToes", "LeftShoulder", "LeftUpperArm", "Head"})
+    EXPECT_NE(scene->mRootNode->FindNode(name), nullptr) << name;
+  EXPECT_EQ(scene->mRootNode->FindNode("pelvis"), nullptr);
+  // The tube has no licence: the file says so and refuses commercial use.
+  EXPECT_NE(bytes.find("non-commercial use only"), std::string::npos);
+  EXPECT_NE(bytes.find("caliper_licence"), std::string::npos);
+}
+
+TEST(Fbx, BadInputThrows) {
+  Vertices rest = tube().data().template_vertices;
+  EXPECT_EQ(catch_error([&] { caliper::write_fbx(tube(), rest.topRows(3)); }).field(), "vertices");
+  rest(2, 1) = std::nan("");
+  EXPECT_EQ(catch_error([&] { caliper::write_fbx(tube(), rest); }).field(), "vertices");
 }
 #else
 TEST(GlbAssimp, ReadsBackSkinnedMesh) { FAIL() << "built without Assimp: install libassimp-dev (scripts/install-deps.sh)"; }
+TEST(FbxAssimp, ReadsBackMeshSkeletonWeightsAndBindPose) { FAIL() << "built without Assimp: install libassimp-dev"; }
 #endif
 
 namespace {
@@ -556,6 +729,31 @@ TEST(GlbKhronosValidator, SkinnedAvatarHasNoErrorsOrWarnings) {
   EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
   EXPECT_TRUE(s["info"].value("hasSkins", false)) << s.dump(1);
   EXPECT_EQ(s["info"].value("totalVertexCount", 0), kVertices);
+  fs::remove_all(dir);
+}
+
+TEST(GlbKhronosValidator, VrmHasNoErrorsOrWarnings) {
+  REQUIRE_KHRONOS_VALIDATOR();
+  const fs::path dir = temp_dir();
+  caliper::save_vrm((dir / "tube.vrm").string(), tube(), tube().rest_vertices(Eigen::Vector2d(1.0, -1.0)));
+  const json s = khronos_validate(dir / "tube.vrm");
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
+  EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
+  EXPECT_TRUE(s["info"].value("hasSkins", false)) << s.dump(1);
+  fs::remove_all(dir);
+}
+
+TEST(GlbKhronosValidator, MorphTargetsHaveNoErrorsOrWarnings) {
+  REQUIRE_KHRONOS_VALIDATOR();
+  const fs::path dir = temp_dir();
+  caliper::GlbOptions options;
+  options.morphs = true;
+  caliper::save_glb((dir / "morphs.glb").string(), tube(), tube().rest_vertices(Eigen::Vector2d(1.0, -1.0)), options);
+  const json s = khronos_validate(dir / "morphs.glb");
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s.value("numErrors", -1), 0) << s.dump(1);
+  EXPECT_EQ(s.value("numWarnings", -1), 0) << s.dump(1);
   fs::remove_all(dir);
 }
 

@@ -14,6 +14,7 @@
 #include "temp_files.h"
 #include "caliper/io/model_files.h"
 #include "caliper/io/npz.h"
+#include "caliper/export/gltf.h"
 #include "caliper/vocabulary/catalogue.h"
 
 using namespace caliper;
@@ -451,4 +452,20 @@ TEST(SmplLoader, LoadModelDetectsSmplFiles) {
   EXPECT_EQ(m.sex(), Sex::Female);
   EXPECT_EQ(m.data().weight_from_volume.a, 1001.44);
   EXPECT_EQ(m.data().metadata.at("format"), "smpl");
+}
+
+// An avatar made from an SMPL file keeps SMPL's non-commercial licence inside the exported file.
+TEST(SmplLoader, ExportedGlbSaysNonCommercial) {
+  TempDir dir;
+  Fixture fx;
+  const BodyModel m = load_smpl_model(fx.write(dir));
+  const std::string glb = write_glb(m, m.data().template_vertices);
+  std::uint32_t length = 0;
+  std::memcpy(&length, glb.data() + 12, 4);
+  const auto doc = nlohmann::json::parse(glb.substr(20, length));
+  const std::string copyright = doc["asset"]["copyright"];
+  EXPECT_NE(copyright.find("non-commercial use only"), std::string::npos) << copyright;
+  EXPECT_NE(copyright.find("SMPL"), std::string::npos) << copyright;
+  EXPECT_EQ(doc["asset"]["extras"]["caliper"]["commercial_use"], false);
+  EXPECT_EQ(doc["asset"]["extras"]["caliper"]["body_model"], "smpl_test");
 }

@@ -949,6 +949,8 @@ async function download(path, body, fallbackName) {
 }
 
 $('export-glb').addEventListener('click', () => download('/api/export/glb', requestBody(), 'avatar.glb'));
+$('export-vrm').addEventListener('click', () => download('/api/export/vrm', requestBody(), 'avatar.vrm'));
+$('export-fbx').addEventListener('click', () => download('/api/export/fbx', requestBody(), 'avatar.fbx'));
 $('export-obj').addEventListener('click', () => download('/api/export/obj', requestBody(), 'avatar.obj'));
 $('export-report').addEventListener('click', () => download('/api/export/report', requestBody(), 'avatar-report.json'));
 const setBody = () => { const b = requestBody(); delete b.regressor; delete b.noise; delete b.force; return b; };

@@ -1,18 +1,19 @@
 // glTF 2.0 binary (.glb) export of a rigged, skinned avatar: positions, normals, 4 joint
-// influences per vertex, a joint node per SMPL joint (named after it), inverse bind matrices, and
-// texture coordinates (TEXCOORD_0) when the model has a UV layout.
+// influences per vertex, a joint node per model joint plus a root bone on the floor (export/rig.h:
+// rest orientations along the bones, SMPL or engine names), inverse bind matrices, texture
+// coordinates (TEXCOORD_0) when the model has a UV layout, and the avatar's provenance
+// (asset.copyright, asset.extras.caliper).
 #pragma once
 #include <string>
 #include <vector>
 
 #include "caliper/body/body_model.h"
+#include "caliper/export/export_options.h"
 
 namespace caliper {
 
-struct GlbOptions {
-  std::string mesh_name = "avatar";
-  bool include_skin = true;
-  std::vector<float> extra_vertex_scalar;  // optional N values written as _UNCERTAINTY (issue 7)
+struct GlbOptions : ExportOptions {
+  std::vector<float> extra_vertex_scalar;  // optional N values written as _UNCERTAINTY
 };
 
 // GLB bytes for rest vertices (N×3) of `model`. Joints come from the model's joint regressor.
@@ -20,6 +21,15 @@ struct GlbOptions {
 // model's, in order; copies follow), so the glb may have more vertices than the model.
 std::string write_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options = {});
 void save_glb(const std::string& path, const BodyModel& model, const Vertices& rest,
+              const GlbOptions& options = {});
+
+// VRM 1.0 (.vrm): the same GLB (always skinned) with the VRMC_vrm extension: the humanoid bone
+// map (export/rig.h's table: every required bone and the fingers the model has), the
+// first-person mesh, the look-at origin at the avatar's estimated eye point, and meta with the
+// provenance and the use the body model's licence allows. Throws Error(Unsupported) naming the
+// bone when the model lacks one VRM requires (hips, spine, head, legs, feet, arms, hands).
+std::string write_vrm(const BodyModel& model, const Vertices& rest, const GlbOptions& options = {});
+void save_vrm(const std::string& path, const BodyModel& model, const Vertices& rest,
               const GlbOptions& options = {});
 
 // Wavefront OBJ text (positions, normals, faces), metres.
