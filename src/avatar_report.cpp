@@ -1,9 +1,11 @@
 #include "caliper/avatar_report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "caliper/export/gltf.h"
 #include "caliper/vocabulary/catalogue.h"
 
 namespace caliper {
@@ -100,6 +102,34 @@ std::string avatar_report_json(const BodyModel& model, const Avatar& avatar, int
   j["vertex_count"] = model.vertex_count();
   j["joint_count"] = model.joint_count();
   return j.dump(indent) + "\n";
+}
+
+namespace {
+std::string lower_ending(const std::string& path, std::size_t length) {
+  std::string tail = path.size() < length ? std::string() : path.substr(path.size() - length);
+  for (auto& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return tail;
+}
+}  // namespace
+
+bool is_avatar_file_name(const std::string& path) {
+  const std::string tail = lower_ending(path, 4);
+  return tail == ".glb" || tail == ".obj";
+}
+
+void save_avatar(const std::string& path, const BodyModel& model, const Avatar& avatar, const std::string& field) {
+  if (!is_avatar_file_name(path))
+    throw Error(ErrorKind::InvalidArgument, field + " must end in .glb or .obj, got '" + path + "'", field);
+  if (lower_ending(path, 4) == ".glb") {
+    // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
+    GlbOptions glb;
+    const Eigen::VectorXd& vsd = avatar.vertex_sd;
+    glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
+    save_glb(path, model, avatar.rest_vertices, glb);
+  } else {
+    save_obj(path, avatar.rest_vertices, model.faces(), model.data().uv_coordinates, model.data().uv_faces,
+             "Caliper avatar, model " + model.name() + ", metres, +Y up, facing +Z");
+  }
 }
 
 }  // namespace caliper

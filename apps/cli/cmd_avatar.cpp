@@ -67,7 +67,7 @@ void register_avatar(CLI::App& app) {
   cmd->add_option("--report", *report, "also write a JSON report (requested vs achieved measurements, shape, plausibility)");
   cmd->add_flag("-q,--quiet", *quiet, "do not print the measurement table");
   cmd->callback([=] {
-    if (!ends_with(*output, ".glb") && !ends_with(*output, ".obj"))
+    if (!is_avatar_file_name(*output))
       throw Error(ErrorKind::InvalidArgument, "--output must end in .glb or .obj, got '" + *output + "'", "--output");
     // Both files' folders are checked first, so a bad --report does not leave a lone mesh behind.
     for (const auto& [path, option] : {std::pair{*output, "--output"}, std::pair{*report, "--report"}}) {
@@ -77,15 +77,7 @@ void register_avatar(CLI::App& app) {
         throw Error(ErrorKind::Io, std::string(option) + ": there is no folder '" + folder.string() + "'", option);
     }
     BuiltAvatar built = build_avatar(*opts);
-    if (ends_with(*output, ".glb")) {
-      // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
-      GlbOptions glb;
-      const Eigen::VectorXd& vsd = built.avatar.vertex_sd;
-      glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
-      save_glb(*output, *built.model, built.avatar.rest_vertices, glb);
-    } else
-      write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(), built.model->data().uv_coordinates,
-                                    built.model->data().uv_faces, "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));
+    save_avatar(*output, *built.model, built.avatar, "--output");
     if (!report->empty()) write_file(*report, avatar_report_json(*built.model, built.avatar));
     if (!*quiet) print_summary(built, std::cout);
     std::cout << "wrote " << *output << (report->empty() ? "" : " and " + *report) << "\n";
