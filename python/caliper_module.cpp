@@ -31,7 +31,9 @@ struct ErrorClasses {
     return base;
   }
 };
-ErrorClasses* error_classes = nullptr;  // set once at import, lives as long as the interpreter
+// Set once at import and never freed: a static's destructor would drop references after the
+// interpreter has finalised.
+ErrorClasses* error_classes = nullptr;
 
 py::object new_error_class(py::module_& m, const char* name, py::handle bases, const char* doc) {
   const std::string qualified = std::string("caliper.") + name;
@@ -58,7 +60,7 @@ void raise_python_error(const Error& e) {
 }
 
 void register_errors(py::module_& m) {
-  static ErrorClasses classes;
+  ErrorClasses& classes = *new ErrorClasses;
   classes.base = new_error_class(m, "Error", PyExc_Exception,
                                  "A Caliper error. Attributes: kind, field (the offending measurement, argument or "
                                  "array, or ''), origin ('caller' or 'installation'), accepted_range ((lo, hi, "
