@@ -12,7 +12,7 @@ APT_PACKAGES=(
   libassimp-dev assimp-utils
   clang libclang-rt-14-dev
   nodejs npm chromium
-  python3-numpy
+  python3-numpy python3-dev pybind11-dev python3-pybind11 python3-pytest
 )
 
 SUDO=""

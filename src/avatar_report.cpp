@@ -1,9 +1,12 @@
 #include "caliper/avatar_report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "caliper/export/fbx.h"
+#include "caliper/export/gltf.h"
 #include "caliper/vocabulary/catalogue.h"
 
 namespace caliper {
@@ -114,6 +117,46 @@ Provenance avatar_provenance(const BodyModel& model, const Avatar& avatar) {
   p.regressor = avatar.regressor;
   p.measurements = avatar.requested;
   return p;
+}
+
+namespace {
+std::string lower_ending(const std::string& path, std::size_t length) {
+  std::string tail = path.size() < length ? std::string() : path.substr(path.size() - length);
+  for (auto& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return tail;
+}
+}  // namespace
+
+bool is_avatar_file_name(const std::string& path) {
+  const std::string tail = lower_ending(path, 4);
+  return tail == ".glb" || tail == ".vrm" || tail == ".fbx" || tail == ".obj";
+}
+
+void save_avatar(const std::string& path, const BodyModel& model, const Avatar& avatar, const std::string& field,
+                 const AvatarFileOptions& options) {
+  if (!is_avatar_file_name(path))
+    throw Error(ErrorKind::InvalidArgument, field + " must end in .glb, .vrm, .fbx or .obj, got '" + path + "'", field);
+  const std::string ending = lower_ending(path, 4);
+  if (options.morphs && ending != ".glb" && ending != ".vrm")
+    throw Error(ErrorKind::InvalidArgument, "only .glb and .vrm files carry morph targets, got '" + path + "'", field);
+  if (ending == ".obj") {
+    save_obj(path, avatar.rest_vertices, model.faces(), model.data().uv_coordinates, model.data().uv_faces,
+             "Caliper avatar, model " + model.name() + ", metres, +Y up, facing +Z");
+    return;
+  }
+  GlbOptions glb;
+  glb.skeleton = options.skeleton;
+  glb.morphs = options.morphs;
+  glb.provenance = avatar_provenance(model, avatar);
+  if (ending == ".fbx") {
+    save_fbx(path, model, avatar.rest_vertices, glb);
+    return;
+  }
+  // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
+  const Eigen::VectorXd& vsd = avatar.vertex_sd;
+  glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
+  if (ending == ".vrm") save_vrm(path, model, avatar.rest_vertices, glb);
+  else save_glb(path, model, avatar.rest_vertices, glb);
 }
 
 }  // namespace caliper

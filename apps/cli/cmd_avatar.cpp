@@ -80,7 +80,7 @@ void register_avatar(CLI::App& app) {
   cmd->add_flag("--morphs", *morphs, ".glb / .vrm: also write the model's shape directions as morph targets (blend shapes)");
   cmd->add_flag("-q,--quiet", *quiet, "do not print the measurement table");
   cmd->callback([=] {
-    if (!ends_with(*output, ".glb") && !ends_with(*output, ".vrm") && !ends_with(*output, ".fbx") && !ends_with(*output, ".obj"))
+    if (!is_avatar_file_name(*output))
       throw Error(ErrorKind::InvalidArgument, "--output must end in .glb, .vrm, .fbx or .obj, got '" + *output + "'", "--output");
     // Both files' folders are checked first, so a bad --report does not leave a lone mesh behind.
     for (const auto& [path, option] : {std::pair{*output, "--output"}, std::pair{*report, "--report"}}) {
@@ -94,24 +94,10 @@ void register_avatar(CLI::App& app) {
       throw Error(ErrorKind::InvalidArgument, "--morphs: only .glb and .vrm files carry morph targets, got '" + *output + "'",
                   "--morphs");
     BuiltAvatar built = build_avatar(*opts);
-    if (ends_with(*output, ".glb") || ends_with(*output, ".vrm")) {
-      // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
-      GlbOptions glb;
-      glb.skeleton = naming;
-      glb.morphs = *morphs;
-      glb.provenance = avatar_provenance(*built.model, built.avatar);
-      const Eigen::VectorXd& vsd = built.avatar.vertex_sd;
-      glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
-      if (ends_with(*output, ".vrm")) save_vrm(*output, *built.model, built.avatar.rest_vertices, glb);
-      else save_glb(*output, *built.model, built.avatar.rest_vertices, glb);
-    } else if (ends_with(*output, ".fbx")) {
-      ExportOptions fbx;
-      fbx.skeleton = naming;
-      fbx.provenance = avatar_provenance(*built.model, built.avatar);
-      save_fbx(*output, *built.model, built.avatar.rest_vertices, fbx);
-    } else
-      write_file(*output, write_obj(built.avatar.rest_vertices, built.model->faces(), built.model->data().uv_coordinates,
-                                    built.model->data().uv_faces, "Caliper avatar, model " + built.model->name() + ", metres, +Y up, facing +Z"));
+    AvatarFileOptions file;
+    file.skeleton = naming;
+    file.morphs = *morphs;
+    save_avatar(*output, *built.model, built.avatar, "--output", file);
     if (!report->empty()) write_file(*report, avatar_report_json(*built.model, built.avatar));
     if (!*quiet) print_summary(built, std::cout);
     std::cout << "wrote " << *output << (report->empty() ? "" : " and " + *report) << "\n";

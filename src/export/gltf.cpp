@@ -526,6 +526,11 @@ void save_glb(const std::string& path, const BodyModel& model, const Vertices& r
 
 // ---- Wavefront OBJ ---------------------------------------------------------------------------
 
+void save_obj(const std::string& path, const Vertices& vertices, const Faces& faces, const UvCoordinates& uv,
+              const Faces& uv_faces, const std::string& comment) {
+  write_file(path, write_obj(vertices, faces, uv, uv_faces, comment));
+}
+
 std::string write_obj(const Vertices& vertices, const Faces& faces, const std::string& comment) {
   return write_obj(vertices, faces, UvCoordinates(), Faces(), comment);
 }

@@ -38,6 +38,9 @@ std::string write_obj(const Vertices& vertices, const Faces& faces, const std::s
 // `f v/vt/vn` with `uv_faces` (F×3 into uv). Empty uv_faces writes no `vt` (as above).
 std::string write_obj(const Vertices& vertices, const Faces& faces, const UvCoordinates& uv, const Faces& uv_faces,
                       const std::string& comment = {});
+// The same written to `path`; throws Error(Io) naming the path when it cannot be written.
+void save_obj(const std::string& path, const Vertices& vertices, const Faces& faces, const UvCoordinates& uv,
+              const Faces& uv_faces, const std::string& comment = {});
 Mesh read_obj(const std::string& path);  // triangles or polygons (fan-triangulated); throws Error
 
 // An OBJ's mesh and, when every face corner has one, its texture coordinates (u, v; a `vt` with
