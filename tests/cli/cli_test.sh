@@ -22,6 +22,28 @@ says() {
     failed=$((failed + 1)); echo "FAIL: $2: output lacks '$1'"; sed 's/^/    /' "$TMP/out" | head -20; fi
 }
 
+# with_metadata SRC DST KEY VALUE — copies the model SRC to DST with its metadata's KEY set to the
+# string VALUE (metadata.npy holds one JSON text as a 0-d numpy unicode array). Needs python3.
+with_metadata() {
+  python3 - "$@" <<'PY'
+import json, struct, sys, zipfile
+source, target, key, value = sys.argv[1:5]
+def npy_unicode(text):
+    header = ("{'descr': '<U%d', 'fortran_order': False, 'shape': (), }" % max(1, len(text))).encode()
+    header += b" " * ((64 - (10 + len(header) + 1) % 64) % 64) + b"\n"
+    return b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header + text.encode("utf-32-le")
+with zipfile.ZipFile(source) as src, zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as out:
+    for name in src.namelist():
+        data = src.read(name)
+        if name == "metadata.npy":
+            header_len = struct.unpack("<H", data[8:10])[0]
+            meta = json.loads(data[10 + header_len:].decode("utf-32-le").rstrip("\0"))
+            meta[key] = value
+            data = npy_unicode(json.dumps(meta))
+        out.writestr(name, data)
+PY
+}
+
 expect 0 "top-level help" "$CALIPER" --help
 for sub in avatar render measure isak "model info" "model list" "model build" "model uv-atlas" "map fit"; do
   # shellcheck disable=SC2086
@@ -115,22 +137,8 @@ expect 4 "the same file given as a path is the caller's" \
   "$CALIPER" avatar --model "$MODELS/broken-female.npz" --height 170 --weight 60 -o "$TMP/a.glb"
 if command -v python3 >/dev/null; then
   # The built-in model with its real-to-virtual maps (metadata) broken: read when the avatar is built.
-  python3 - "$SRC/models/mannequin-female.npz" "$MODELS/badmaps-female.npz" <<'PY'
-import json, re, struct, sys, zipfile
-def npy_unicode(text):
-    header = ("{'descr': '<U%d', 'fortran_order': False, 'shape': (), }" % max(1, len(text))).encode()
-    header += b" " * ((64 - (10 + len(header) + 1) % 64) % 64) + b"\n"
-    return b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header + text.encode("utf-32-le")
-with zipfile.ZipFile(sys.argv[1]) as src, zipfile.ZipFile(sys.argv[2], "w", zipfile.ZIP_DEFLATED) as out:
-    for name in src.namelist():
-        data = src.read(name)
-        if name == "metadata.npy":
-            header_len = struct.unpack("<H", data[8:10])[0]
-            meta = json.loads(data[10 + header_len:].decode("utf-32-le").rstrip("\0"))
-            meta["real_to_virtual"] = '{"format": "caliper-real-to-virtual", "maps": {"stature": {"slope": 1, "pairs": "20"}}}'
-            data = npy_unicode(json.dumps(meta))
-        out.writestr(name, data)
-PY
+  with_metadata "$SRC/models/mannequin-female.npz" "$MODELS/badmaps-female.npz" real_to_virtual \
+    '{"format": "caliper-real-to-virtual", "maps": {"stature": {"slope": 1, "pairs": "20"}}}'
   expect 5 "a model in the models folder whose maps are broken" \
     env CALIPER_MODELS_DIR="$MODELS" "$CALIPER" avatar --model badmaps --height 170 --weight 60 -o "$TMP/a.glb"
   says "pairs" "names the map's field"
@@ -476,22 +484,8 @@ says "2 or 3 repetitions" "isak's help says it takes two or three values"
 if grep -q "x 2" "$TMP/out"; then failed=$((failed + 1)); echo "FAIL: isak's help still says x 2"; else passed=$((passed + 1)); fi
 if command -v python3 >/dev/null; then
   # model info rounds what a model's metadata holds: a fit's round-off residue and long decimals.
-  python3 - "$SRC/models/mannequin-female.npz" "$TMP/noisy-meta.npz" <<'PY'
-import json, struct, sys, zipfile
-def npy_unicode(text):
-    header = ("{'descr': '<U%d', 'fortran_order': False, 'shape': (), }" % max(1, len(text))).encode()
-    header += b" " * ((64 - (10 + len(header) + 1) % 64) % 64) + b"\n"
-    return b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header + text.encode("utf-32-le")
-with zipfile.ZipFile(sys.argv[1]) as src, zipfile.ZipFile(sys.argv[2], "w", zipfile.ZIP_DEFLATED) as out:
-    for name in src.namelist():
-        data = src.read(name)
-        if name == "metadata.npy":
-            header_len = struct.unpack("<H", data[8:10])[0]
-            meta = json.loads(data[10 + header_len:].decode("utf-32-le").rstrip("\0"))
-            meta["real_to_virtual_fits"] = "span: virtual = 1 * real + -8.35202e-14 cm (rmse 3.1e-15 cm)"
-            data = npy_unicode(json.dumps(meta))
-        out.writestr(name, data)
-PY
+  with_metadata "$SRC/models/mannequin-female.npz" "$TMP/noisy-meta.npz" real_to_virtual_fits \
+    "span: virtual = 1 * real + -8.35202e-14 cm (rmse 3.1e-15 cm)"
   expect 0 "model info of a model with float noise in its metadata" "$CALIPER" model info "$TMP/noisy-meta.npz"
   says "virtual = 1 * real + 0 cm (rmse 0 cm)" "prints the residue as 0"
   says '"offset_cm": ' "prints the model's map"
