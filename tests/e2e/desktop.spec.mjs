@@ -213,6 +213,7 @@ try {
   await page.fill('#in-stature', '68');  // inches
   await err.waitFor({ state: 'visible', timeout: 10000 });
   check(/inches/.test(await err.innerText()) && await page.locator('#use-suggested').isVisible(), 'a height in inches is questioned in place', await err.innerText());
+  check(!/\d/.test(await page.locator('#bmi').innerText()), 'no BMI is computed from a questioned height', await page.locator('#bmi').innerText());
   if (screenshots) {
     await err.scrollIntoViewIfNeeded();
     await page.screenshot({ path: join(screenshots, 'desktop-tool-mistake.png') });
@@ -222,6 +223,7 @@ try {
   await settle(n + 1);
   check(parseFloat(await page.inputValue('#in-stature')) === 172.7 && await err.isHidden(), 'the suggestion is applied',
     await page.inputValue('#in-stature'));
+  check(/BMI \d/.test(await page.locator('#bmi').innerText()), 'the BMI is back once the height is settled', await page.locator('#bmi').innerText());
   await page.fill('#in-weight', '180');  // pounds at 172.7 cm
   await err.waitFor({ state: 'visible', timeout: 10000 });
   check(/pounds/.test(await err.innerText()), 'a weight in pounds is questioned', await err.innerText());

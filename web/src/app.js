@@ -66,6 +66,7 @@ const state = {
   extra: {},                // other imported measurements (e.g. a taped chest circumference), sent as requested
   predicted: {},            // input name → the avatar's value (cm / kg), shown for values not given
   fieldErrors: new Map(),   // input name → what is wrong with the text typed there (not sent)
+  doubted: new Set(),       // inputs the server questioned as probably mistyped, until answered
   units: 'metric',          // metric (cm, kg) | imperial (in, lb): display only, the API gets cm and kg
   participant: '',          // carried into exported file names
   pose: 't',                // the viewer's pose: t (rest), a, stride; exports stay in the rest pose
@@ -429,6 +430,8 @@ function renderBmi() {
   const value = (name) => (state.given.has(name) ? state.values[name] : state.predicted[name]);
   const h = value('stature'), w = value('weight');
   if (!h || !w) { host.textContent = ''; return; }
+  // A BMI from a height typed in inches or a weight in pounds would be a confident wrong number.
+  if (state.doubted.has('stature') || state.doubted.has('weight')) { host.textContent = 'BMI: check the height and weight first'; return; }
   const bmi = w / (h / 100) ** 2;
   const whose = state.given.has('stature') && state.given.has('weight') ? 'from your height and weight' : 'from the avatar\'s height and weight';
   host.textContent = `BMI ${bmi.toFixed(1)} kg/m² · ${whose}`;
@@ -905,6 +908,8 @@ function askAboutSuspects(e) {
   });
   box.append(text, use, keep);
   box.hidden = false;
+  state.doubted = new Set(e.suspects.map((s) => s.field));
+  renderBmi();
   for (const [name, r] of rows) r.row.classList.toggle('invalid', e.suspects.some((s) => s.field === name));
   const status = $('status');
   status.textContent = 'not updated: check the highlighted values';
@@ -912,6 +917,7 @@ function askAboutSuspects(e) {
 }
 function clearError() {
   $('error').hidden = true;
+  if (state.doubted.size) { state.doubted = new Set(); renderBmi(); }
   for (const [name, r] of rows) r.row.classList.toggle('invalid', state.fieldErrors.has(name));
 }
 
