@@ -7,7 +7,7 @@
 // the hand's radial side. The crotch joins the torso's bottom ring to the two legs through a
 // front-to-back bridge of vertices shared by both legs' first rings.
 //
-// After the rings, the shoulder is faired (fair()) and anatomy is drawn on the surface as
+// After the rings, the shoulder and the groin are faired (fair()) and anatomy is drawn on the surface as
 // horizontal displacements that keep every target (sculpt(), "Relief" below; docs/mannequin.md).
 //
 // Fidelity by construction (brief; paper §3.2 for how Caliper measures): every imposed
@@ -78,6 +78,8 @@ constexpr int kThumbQ0 = 27, kThumbQ1 = 31; // thumb hole columns on the hand (q
 constexpr int kThumbRows = 3;
 // Fairing of the shoulder (fair()): torso columns beside the armpit hole, arm rings after it.
 constexpr int kFairColumns = 6, kFairArmRings = 3, kFairIterations = 30;
+// Fairing of the groin: the torso's bottom rings and the legs' first rings (above the thigh ring).
+constexpr int kFairGroinTorsoRings = 2, kFairGroinLegRings = 2;
 constexpr int kThumbN = 2 * (kThumbQ1 - kThumbQ0) + 2 * kThumbRows;
 
 // Torso key levels and ring intervals between consecutive keys.
@@ -164,6 +166,7 @@ double leg_angle(int k) {
   return deg * kPi / 180.0;
 }
 constexpr int kLegFront = 5, kLegLateral = 16, kLegBack = 27, kLegMedial = 36;
+constexpr int kLegBridgeFirst = 33;  // leg columns from here on are the crotch bridge's
 
 double arm_angle(int q) { return (-45.0 + q * 360.0 / kArmN) * kPi / 180.0; }
 constexpr int kArmBottom = 4, kArmBack = 12, kArmTop = 20, kArmFront = 28;
@@ -1737,6 +1740,7 @@ Dimensions complete_dimensions(const Dimensions& partial, Sex sex) {
 // symmetric.
 struct Fairing {
   std::vector<int> left, right;              // free vertices; right[i] mirrors left[i]
+  std::vector<char> level;                   // 1: moves horizontally only (keeps its ring's height)
   std::vector<std::vector<int>> neighbours;  // one-ring of left[i]
 };
 
@@ -1748,10 +1752,11 @@ Fairing make_fairing() {
   std::set<int> pinned;
   for (const auto& [name, id] : B.landmarks) pinned.insert(id);
   Fairing f;
-  auto take = [&](int l, int r) {
+  auto take = [&](int l, int r, bool level = false) {
     if (l < 0 || pinned.count(l) || pinned.count(r)) return;
     f.left.push_back(l);
     f.right.push_back(r);
+    f.level.push_back(level);
   };
   const int kax = torso_key_ring(kAxilla);
   for (int k = kax + 1; k <= torso_key_ring(kShoulder2); ++k)
@@ -1759,6 +1764,20 @@ Fairing make_fairing() {
       take(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)]);
   for (int r = 1; r <= kFairArmRings; ++r)
     for (int q = 0; q < kArmN; ++q) take(B.arm[0][static_cast<size_t>(r)][static_cast<size_t>(q)], B.arm[1][static_cast<size_t>(r)][static_cast<size_t>(q)]);
+  // The groin: where one torso ring around both thighs meets a tube around each thigh, the
+  // torso's bottom rings stand out over the thighs' front-lateral quarter and the surface folds
+  // along a horizontal line (a shorts hem). Fairing the two bottom torso rings and the legs' first
+  // two rings (the thigh girth ring below them stays) rounds that fold off. Horizontally only: the
+  // rings there lie under a centimetre apart, and moving them up or down folds them over each
+  // other on heavy bodies. Not the inner thigh beside the crotch bridge, whose fold between the
+  // legs would sharpen.
+  std::set<int> seen(f.left.begin(), f.left.end());
+  auto take_once = [&](int l, int r) { if (seen.insert(l).second) take(l, r, true); };
+  for (int k = 0; k < kFairGroinTorsoRings; ++k)
+    for (int j = 1; j < kTorsoN / 2; ++j)
+      take_once(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)]);
+  for (int r = 0; r < kFairGroinLegRings; ++r)
+    for (int q = 1; q < kLegBridgeFirst - 1; ++q) take_once(B.leg[0][static_cast<size_t>(r)][static_cast<size_t>(q)], B.leg[1][static_cast<size_t>(r)][static_cast<size_t>(q)]);
   std::vector<std::set<int>> ring(B.v.size());
   for (const auto& t : B.faces)
     for (int c = 0; c < 3; ++c) {
@@ -1778,6 +1797,7 @@ void fair(std::vector<Vec3>& v) {
       Vec3 mean = Vec3::Zero();
       for (int n : f.neighbours[i]) mean += v[static_cast<size_t>(n)];
       step[i] = factor * (mean / static_cast<double>(f.neighbours[i].size()) - v[static_cast<size_t>(f.left[i])]);
+      if (f.level[i]) step[i].y() = 0;
     }
     for (size_t i = 0; i < f.left.size(); ++i) v[static_cast<size_t>(f.left[i])] += step[i];
   }
