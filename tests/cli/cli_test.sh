@@ -72,8 +72,12 @@ expect 0 "FBX export" "$CALIPER" avatar --height 170 --weight 60 --skeleton huma
 head -c 18 "$TMP/a.fbx" >"$TMP/out"
 says "Kaydara FBX Binary" "the .fbx is a binary FBX"
 expect 0 "VRM export" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/a.vrm" -q --morphs
-expect 3 "--morphs in an FBX" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/b.fbx" --morphs
-says "only .glb and .vrm" "the --morphs error says which files take it"
+expect 0 "FBX export with blend shapes" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/m.fbx" -q --morphs
+expect 0 "the .fbx with --morphs has blend-shape channels" grep -aq "BlendShapeChannel" "$TMP/m.fbx"
+expect 1 "the .fbx without has none" grep -aq "BlendShapeChannel" "$TMP/a.fbx"
+expect 3 "--morphs in an OBJ" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/b.obj" --morphs
+says "only .glb, .vrm, .fbx" "the --morphs error says which files take it"
+expect 0 "nothing written for a refused --morphs" test ! -e "$TMP/b.obj"
 grep -c "VRMC_vrm" "$TMP/a.vrm" >"$TMP/out"
 says "1" "the .vrm has the VRMC_vrm extension"
 expect 3 "bad --set" "$CALIPER" avatar --height 170 --weight 60 --set chest_circumference=abc -o "$TMP/a.glb"
