@@ -265,6 +265,17 @@ else
 fi
 expect 0 "batch" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch"
 expect 0 "batch wrote an avatar and a report per row" bash -c "ls '$TMP/batch' | grep -c . | grep -qx 6"
+# --format takes every file `avatar -o` writes, written by the same routine (provenance included).
+for format in vrm fbx obj; do
+  expect 0 "batch --format $format" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch-$format" --format $format
+  expect 0 "batch --format $format wrote a .$format per row" bash -c "ls '$TMP/batch-$format'/*.$format | grep -c . | grep -qx 3"
+done
+head -c 18 "$TMP/batch-fbx/ex-2.fbx" >"$TMP/out"
+says "Kaydara FBX Binary" "batch's .fbx is a binary FBX"
+expect 0 "batch's .vrm has the VRMC_vrm extension" grep -aq "VRMC_vrm" "$TMP/batch-vrm/ex-1.vrm"
+expect 0 "batch's .fbx carries its provenance" grep -aq "caliper_licence" "$TMP/batch-fbx/ex-1.fbx"
+expect 2 "batch --format stl" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch-stl" --format stl
+says "glb, vrm, fbx or obj" "the --format error lists the formats"
 
 # ---------------------------------------------------------------------------------------------
 # Capture sessions (issue 6; docs/capture.md): `serve --data`, a session fed over HTTP, the
