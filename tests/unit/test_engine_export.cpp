@@ -262,6 +262,31 @@ TEST(Vrm, NonCommercialModelsSayPersonalNonProfitAndModelsWithoutSmplNamesAreRef
   EXPECT_EQ(e.field(), "hips");
 }
 
+// The avatar's files: a format by name or by a path's ending (any case), the one rule for which
+// carry morph targets, and the refusal naming the caller's field.
+TEST(AvatarFiles, FormatsByNameAndEndingAndWhichCarryMorphs) {
+  EXPECT_EQ(avatar_format_named("FBX"), AvatarFormat::Fbx);
+  EXPECT_EQ(avatar_format_named("stl"), std::nullopt);
+  EXPECT_EQ(avatar_file_format("out.glb/me.Vrm", "--output"), AvatarFormat::Vrm);
+  EXPECT_EQ(test::catch_error([] { avatar_file_format("out.glb/me", "--output"); }).field(), "--output");
+  EXPECT_TRUE(is_avatar_file_name("ME.OBJ"));
+  EXPECT_FALSE(is_avatar_file_name("me.obj.png"));
+  for (AvatarFormat f : {AvatarFormat::Glb, AvatarFormat::Vrm, AvatarFormat::Fbx}) EXPECT_TRUE(avatar_format_carries_morphs(f));
+  EXPECT_FALSE(avatar_format_carries_morphs(AvatarFormat::Obj));
+  AvatarFileOptions morphs;
+  morphs.morphs = true;
+  check_avatar_file_options(AvatarFormat::Fbx, morphs, "--morphs");  // no throw
+  check_avatar_file_options(AvatarFormat::Obj, {}, "--morphs");
+  const Error e = test::catch_error([&] { check_avatar_file_options(AvatarFormat::Obj, morphs, "--morphs"); });
+  EXPECT_EQ(e.field(), "--morphs");
+  EXPECT_NE(std::string(e.what()).find("only .glb, .vrm, .fbx"), std::string::npos) << e.what();
+  const BodyModel& m = mannequin();
+  Avatar avatar;
+  avatar.rest_vertices = m.data().template_vertices;
+  EXPECT_EQ(test::catch_error([&] { write_avatar(AvatarFormat::Obj, m, avatar, morphs); }).field(), "morphs");
+  EXPECT_EQ(write_avatar(AvatarFormat::Obj, m, avatar).rfind("# Caliper avatar", 0), 0u);
+}
+
 // docs/engines.md's mapping table says what the code does: each row's SMPL, humanoid and VRM
 // names are one row of humanoid_bone_table(), and the left side and SMPL's trunk are all there.
 TEST(HumanoidNames, TheDocumentedTableMatchesTheCode) {
