@@ -32,6 +32,10 @@ if [ "${CALIPER_BLENDER:-0}" = "1" ]; then
   build/bin/caliper avatar --sex male --height 180 --weight 85 --arm-span 186 --inseam 84 -o "$tmp/male.glb" -q
   build/bin/caliper avatar --sex female --height 165 --weight 62 -o "$tmp/female.fbx" -q
   build/bin/caliper avatar --sex male --height 180 --weight 85 --skeleton humanoid -o "$tmp/male.fbx" -q
-  bash tests/e2e/check-glb.sh "$tmp/female.glb" "$tmp/male.glb" "$tmp/female.fbx" "$tmp/male.fbx"
+  build/bin/caliper avatar --sex female --height 165 --weight 62 --morphs -o "$tmp/female-morphs.fbx" -q
+  build/bin/caliper avatar --sex female --height 170 --weight 70 --skeleton humanoid --morphs -o "$tmp/female-morphs.glb" -q
+  shapes="$(build/bin/caliper model info mannequin --sex female --json 2>/dev/null | node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).shape_directions))')"
+  bash tests/e2e/check-glb.sh "$tmp/female.glb" "$tmp/male.glb" "$tmp/female.fbx" "$tmp/male.fbx" \
+    --shape-keys="$shapes" "$tmp/female-morphs.fbx" "$tmp/female-morphs.glb"
   rm -rf "$tmp"
 fi

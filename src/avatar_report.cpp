@@ -8,6 +8,7 @@
 #include "caliper/export/fbx.h"
 #include "caliper/export/gltf.h"
 #include "caliper/vocabulary/catalogue.h"
+#include "export/export_common.h"
 
 namespace caliper {
 
@@ -120,43 +121,79 @@ Provenance avatar_provenance(const BodyModel& model, const Avatar& avatar) {
 }
 
 namespace {
-std::string lower_ending(const std::string& path, std::size_t length) {
-  std::string tail = path.size() < length ? std::string() : path.substr(path.size() - length);
-  for (auto& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return tail;
+std::string lower(std::string text) {
+  for (auto& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+constexpr AvatarFormat kAvatarFormats[] = {AvatarFormat::Glb, AvatarFormat::Vrm, AvatarFormat::Fbx, AvatarFormat::Obj};
+}  // namespace
+
+const char* to_string(AvatarFormat format) {
+  switch (format) {
+    case AvatarFormat::Glb: return "glb";
+    case AvatarFormat::Vrm: return "vrm";
+    case AvatarFormat::Fbx: return "fbx";
+    case AvatarFormat::Obj: return "obj";
+  }
+  return "?";
+}
+
+std::optional<AvatarFormat> avatar_format_named(const std::string& name) {
+  for (AvatarFormat f : kAvatarFormats)
+    if (lower(name) == to_string(f)) return f;
+  return std::nullopt;
+}
+
+namespace {
+std::optional<AvatarFormat> format_of_path(const std::string& path) {
+  const std::size_t dot = path.rfind('.');
+  if (dot == std::string::npos || path.find('/', dot) != std::string::npos) return std::nullopt;
+  return avatar_format_named(path.substr(dot + 1));
 }
 }  // namespace
 
-bool is_avatar_file_name(const std::string& path) {
-  const std::string tail = lower_ending(path, 4);
-  return tail == ".glb" || tail == ".vrm" || tail == ".fbx" || tail == ".obj";
+bool is_avatar_file_name(const std::string& path) { return format_of_path(path).has_value(); }
+
+AvatarFormat avatar_file_format(const std::string& path, const std::string& field) {
+  const std::optional<AvatarFormat> format = format_of_path(path);
+  if (!format) throw Error(ErrorKind::InvalidArgument, field + " must end in .glb, .vrm, .fbx or .obj, got '" + path + "'", field);
+  return *format;
 }
 
-void save_avatar(const std::string& path, const BodyModel& model, const Avatar& avatar, const std::string& field,
-                 const AvatarFileOptions& options) {
-  if (!is_avatar_file_name(path))
-    throw Error(ErrorKind::InvalidArgument, field + " must end in .glb, .vrm, .fbx or .obj, got '" + path + "'", field);
-  const std::string ending = lower_ending(path, 4);
-  if (options.morphs && ending != ".glb" && ending != ".vrm")
-    throw Error(ErrorKind::InvalidArgument, "only .glb and .vrm files carry morph targets, got '" + path + "'", field);
-  if (ending == ".obj") {
-    save_obj(path, avatar.rest_vertices, model.faces(), model.data().uv_coordinates, model.data().uv_faces,
-             "Caliper avatar, model " + model.name() + ", metres, +Y up, facing +Z");
-    return;
+bool avatar_format_carries_morphs(AvatarFormat format) { return format != AvatarFormat::Obj; }
+
+void check_avatar_file_options(AvatarFormat format, const AvatarFileOptions& options, const std::string& field) {
+  if (options.morphs && !avatar_format_carries_morphs(format)) {
+    std::string carriers;
+    for (AvatarFormat f : kAvatarFormats)
+      if (avatar_format_carries_morphs(f)) carriers += (carriers.empty() ? "." : ", .") + std::string(to_string(f));
+    throw Error(ErrorKind::InvalidArgument,
+                std::string("morph targets: a .") + to_string(format) + " file cannot carry them (only " + carriers + " do)",
+                field);
   }
+}
+
+std::string write_avatar(AvatarFormat format, const BodyModel& model, const Avatar& avatar, const AvatarFileOptions& options) {
+  check_avatar_file_options(format, options, "morphs");
+  if (format == AvatarFormat::Obj)
+    return write_obj(avatar.rest_vertices, model.faces(), model.data().uv_coordinates, model.data().uv_faces,
+                     "Caliper avatar, model " + model.name() + ", regressor " + avatar.regressor + ", metres, +Y up, facing +Z");
   GlbOptions glb;
   glb.skeleton = options.skeleton;
   glb.morphs = options.morphs;
   glb.provenance = avatar_provenance(model, avatar);
-  if (ending == ".fbx") {
-    save_fbx(path, model, avatar.rest_vertices, glb);
-    return;
-  }
+  if (format == AvatarFormat::Fbx) return write_fbx(model, avatar.rest_vertices, glb);
   // The map estimator's per-vertex SD travels with the mesh as the _UNCERTAINTY attribute.
   const Eigen::VectorXd& vsd = avatar.vertex_sd;
   glb.extra_vertex_scalar.assign(vsd.data(), vsd.data() + vsd.size());
-  if (ending == ".vrm") save_vrm(path, model, avatar.rest_vertices, glb);
-  else save_glb(path, model, avatar.rest_vertices, glb);
+  return format == AvatarFormat::Vrm ? write_vrm(model, avatar.rest_vertices, glb) : write_glb(model, avatar.rest_vertices, glb);
+}
+
+void save_avatar(const std::string& path, const BodyModel& model, const Avatar& avatar, const std::string& field,
+                 const AvatarFileOptions& options) {
+  const AvatarFormat format = avatar_file_format(path, field);
+  check_avatar_file_options(format, options, field);
+  export_detail::write_file(path, write_avatar(format, model, avatar, options));
 }
 
 }  // namespace caliper

@@ -77,11 +77,10 @@ void register_avatar(CLI::App& app) {
   cmd->add_option("--skeleton", *skeleton,
                   "bone names: smpl (the model's, default; SMPL pose data drives them) or humanoid (Unity Humanoid names)");
   cmd->add_option("--report", *report, "also write a JSON report (requested vs achieved measurements, shape, plausibility)");
-  cmd->add_flag("--morphs", *morphs, ".glb / .vrm: also write the model's shape directions as morph targets (blend shapes)");
+  cmd->add_flag("--morphs", *morphs, ".glb / .vrm / .fbx: also write the model's shape directions as morph targets (blend shapes)");
   cmd->add_flag("-q,--quiet", *quiet, "do not print the measurement table");
   cmd->callback([=] {
-    if (!is_avatar_file_name(*output))
-      throw Error(ErrorKind::InvalidArgument, "--output must end in .glb, .vrm, .fbx or .obj, got '" + *output + "'", "--output");
+    const AvatarFormat format = avatar_file_format(*output, "--output");
     // Both files' folders are checked first, so a bad --report does not leave a lone mesh behind.
     for (const auto& [path, option] : {std::pair{*output, "--output"}, std::pair{*report, "--report"}}) {
       const auto folder = std::filesystem::path(path).parent_path();
@@ -89,14 +88,11 @@ void register_avatar(CLI::App& app) {
       if (!path.empty() && !folder.empty() && !std::filesystem::is_directory(folder, ec))
         throw Error(ErrorKind::Io, std::string(option) + ": there is no folder '" + folder.string() + "'", option);
     }
-    const SkeletonNaming naming = parse_skeleton_naming(*skeleton, "--skeleton");
-    if (*morphs && !ends_with(*output, ".glb") && !ends_with(*output, ".vrm"))
-      throw Error(ErrorKind::InvalidArgument, "--morphs: only .glb and .vrm files carry morph targets, got '" + *output + "'",
-                  "--morphs");
-    BuiltAvatar built = build_avatar(*opts);
     AvatarFileOptions file;
-    file.skeleton = naming;
+    file.skeleton = parse_skeleton_naming(*skeleton, "--skeleton");
     file.morphs = *morphs;
+    check_avatar_file_options(format, file, "--morphs");  // before the build, so a refusal costs nothing
+    BuiltAvatar built = build_avatar(*opts);
     save_avatar(*output, *built.model, built.avatar, "--output", file);
     if (!report->empty()) write_file(*report, avatar_report_json(*built.model, built.avatar));
     if (!*quiet) print_summary(built, std::cout);

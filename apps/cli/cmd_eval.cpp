@@ -178,7 +178,9 @@ void register_batch(CLI::App& app) {
   cmd->add_option("--out", *out, "output folder (created if missing); files are named after the id column")->required();
   cmd->add_option("--sex", *sex, "female, male or neutral: the sex of rows without a sex column or value");
   cmd->add_option("--regressor", *regressor, "R2, R4, R5, R6, auto, map or a comma list of measurements")->capture_default_str();
-  cmd->add_option("--format", *format, "glb or obj")->check(CLI::IsMember({"glb", "obj"}))->capture_default_str();
+  cmd->add_option("--format", *format, "the avatars' files, as `avatar -o` writes them: glb, vrm, fbx or obj")
+      ->check([](const std::string& name) { return avatar_format_named(name) ? "" : "must be glb, vrm, fbx or obj"; })
+      ->capture_default_str();
   cmd->add_option("--model", o->model, "body model family or path")->capture_default_str();
   cmd->callback([=] {
     MeasurementTable table = read_measurement_table(o->subjects);
@@ -205,9 +207,7 @@ void register_batch(CLI::App& app) {
         if (name.empty()) name = "line-" + std::to_string(row.line);
         if (const auto [it, fresh] = line_of_file.emplace(name, row.line); !fresh) name += "-line-" + std::to_string(row.line);
         const std::string base = *out + "/" + name;
-        if (*format == "glb") save_glb(base + ".glb", builder->model(), a.rest_vertices);
-        else write_file(base + ".obj", write_obj(a.rest_vertices, builder->model().faces(), builder->model().data().uv_coordinates,
-                                                    builder->model().data().uv_faces, "Caliper avatar, participant " + row.participant));
+        save_avatar(base + "." + to_string(*avatar_format_named(*format)), builder->model(), a, "--out");
         write_file(base + ".json", avatar_report_json(builder->model(), a));
         ++done;
       } catch (const Error& e) {

@@ -134,7 +134,7 @@ struct BodyRequest {
   std::string pose = "t";                     // /api/avatar's mesh: t (the rest pose), a or stride
   std::string noise = "exact";                // auto / map: exact (values as given), self or other
   std::map<std::string, double> noise_sd_si;  // auto / map: per-measurement SD overrides, SI
-  SkeletonNaming skeleton = SkeletonNaming::Smpl;  // exports: bone names
+  AvatarFileOptions file;  // exports: bone names, morph targets
 };
 
 ordered_json parse_json_body(const std::string& body) {
@@ -190,7 +190,7 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   // The message lists exactly what this endpoint takes ("mesh" and "pose" only on /api/avatar).
   std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "noise", "noise_sd", "force"};
   if (allow_mesh_flag) known.insert(known.begin() + 4, {"mesh", "pose"});
-  else known.push_back("skeleton");  // the export endpoints
+  else known.insert(known.end(), {"skeleton", "morphs"});  // the export endpoints
   for (const auto& [key, value] : j.items())
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       std::string list;
@@ -215,7 +215,9 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   if (r.pose != "t" && r.pose != "a" && r.pose != "stride") bad("pose must be t (the rest pose), a or stride", "pose");
   // Who measured, for auto (= map), and optional SDs per measurement (cm or kg); values whose
   // noise nobody stated are reproduced as given.
-  r.skeleton = parse_skeleton_naming(string_field(j, "skeleton", "smpl"), "skeleton");
+  r.file.skeleton = parse_skeleton_naming(string_field(j, "skeleton", "smpl"), "skeleton");
+  if (j.contains("morphs") && !j["morphs"].is_boolean()) bad("morphs must be true or false", "morphs");
+  r.file.morphs = j.value("morphs", false);
   r.noise = lower(string_field(j, "noise", "exact"));
   if (r.noise != "exact" && r.noise != "self" && r.noise != "other") bad("noise must be exact, self or other", "noise");
   if (j.contains("noise_sd") && !j["noise_sd"].is_null()) {
@@ -495,26 +497,13 @@ struct Api::Impl {
     const BodyModel& m = b.entry->builder->model();
     ApiResponse out;
     const std::string stem = "caliper-" + m.name() + "-" + b.avatar.regressor;
-    if (kind == "glb" || kind == "vrm") {
-      out.content_type = "model/gltf-binary";
-      GlbOptions glb;  // the map estimator's per-vertex SD as _UNCERTAINTY, when there is one
-      glb.skeleton = r.skeleton;
-      glb.provenance = avatar_provenance(m, b.avatar);
-      glb.extra_vertex_scalar.assign(b.avatar.vertex_sd.data(), b.avatar.vertex_sd.data() + b.avatar.vertex_sd.size());
-      out.body = kind == "vrm" ? write_vrm(m, b.avatar.rest_vertices, glb) : write_glb(m, b.avatar.rest_vertices, glb);
+    if (const std::optional<AvatarFormat> format = avatar_format_named(kind)) {
+      // FBX and OBJ have no registered media type.
+      out.content_type = *format == AvatarFormat::Obj ? "text/plain; charset=utf-8"
+                         : *format == AvatarFormat::Fbx ? "application/octet-stream"
+                                                        : "model/gltf-binary";
+      out.body = write_avatar(*format, m, b.avatar, r.file);
       out.download_name = stem + "." + kind;
-    } else if (kind == "fbx") {
-      out.content_type = "application/octet-stream";  // FBX has no registered media type
-      ExportOptions fbx;
-      fbx.skeleton = r.skeleton;
-      fbx.provenance = avatar_provenance(m, b.avatar);
-      out.body = write_fbx(m, b.avatar.rest_vertices, fbx);
-      out.download_name = stem + ".fbx";
-    } else if (kind == "obj") {
-      out.content_type = "text/plain; charset=utf-8";
-      out.body = write_obj(b.avatar.rest_vertices, m.faces(), m.data().uv_coordinates, m.data().uv_faces,
-                           "Caliper avatar, model " + m.name() + ", regressor " + b.avatar.regressor + ", metres, +Y up, facing +Z");
-      out.download_name = stem + ".obj";
     } else {
       out.body = avatar_report_json(m, b.avatar);
       out.download_name = stem + "-report.json";

@@ -17,6 +17,13 @@
 // deformer with one Cluster per joint (the vertex indices and weights, Transform = the joint's
 // inverse bind matrix, TransformLink = its rest world matrix; the mesh sits at the origin), and
 // a BindPose; Connections link them ("OO": child, parent; 0 is the scene root).
+//
+// Blend shapes (ExportOptions::morphs): a BlendShape Deformer on the mesh Geometry, and per shape
+// direction k a BlendShapeChannel SubDeformer "shape_k" (DeformPercent 0, one target at
+// FullWeights 100) holding a Geometry of class Shape "shape_k": Indexes (the control points it
+// moves), Vertices and Normals (their displacement at 100 %, per listed point). Connections run
+// shape → channel → blend shape → mesh geometry, as the FBX SDK's FbxShape / FbxBlendShapeChannel
+// / FbxBlendShape objects are linked.
 #include "caliper/export/fbx.h"
 
 #include <zlib.h>
@@ -216,6 +223,7 @@ class SceneBuilder {
     connect(geometry, mesh_model);
     connect(material, mesh_model);
     counts_ = {{"Geometry", 1}, {"Model", 1}, {"Material", 1}};
+    if (options_.morphs) add_blend_shapes(geometry);
     if (!options_.include_skin) return;
     const ExportRig rig = export_rig(model_, model_.joints(rest_), rest_, options_.skeleton);
     std::vector<std::int64_t> bone(static_cast<size_t>(rig.size()));
@@ -237,7 +245,7 @@ class SceneBuilder {
     add_bind_pose(rig, bone, mesh_model);
     counts_["Model"] += rig.size();
     counts_["NodeAttribute"] = rig.size();
-    counts_["Deformer"] = 1 + rig.size();
+    counts_["Deformer"] += 1 + rig.size();
     counts_["Pose"] = 1;
   }
 
@@ -321,6 +329,44 @@ class SceneBuilder {
                        p("Lcl Rotation", "Lcl Rotation", "", "A", {f64(zyx(2)), f64(zyx(1)), f64(zyx(0))}),
                        p("Lcl Scaling", "Lcl Scaling", "", "A", {f64(1), f64(1), f64(1)}),
                        p("InheritType", "enum", "", "", {i32(1)})})});
+  }
+
+  // Shape direction k at weight 1 (β_k + 1 SD), as the control points it moves and how far, with
+  // the change of their normals. A point neither moves nor turns is left out (FBX shapes are sparse).
+  void add_blend_shapes(std::int64_t geometry) {
+    const Faces& faces = model_.faces();
+    const Vertices normals = vertex_normals(rest_, faces);
+    const std::int64_t blend_shape = new_id();
+    objects_.add(node("Deformer", {i64(blend_shape), text(object_name("shapes", "Deformer")), text("BlendShape")},
+                      {node("Version", {i32(100)})}));
+    connect(blend_shape, geometry);
+    for (int k = 0; k < model_.shape_count(); ++k) {
+      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> direction(
+          model_.data().shape_directions.col(k).data(), rest_.rows(), 3);
+      const Vertices turned = vertex_normals(rest_ + direction, faces) - normals;
+      std::vector<std::int32_t> indexes;
+      std::vector<double> moved, turn;
+      for (Eigen::Index v = 0; v < rest_.rows(); ++v) {
+        if (direction.row(v).isZero(0) && turned.row(v).isZero(0)) continue;
+        indexes.push_back(static_cast<std::int32_t>(v));
+        // Single precision is what engines keep (and what the body model evaluates S·β in);
+        // doubles rounded to it compress to about half.
+        for (int c = 0; c < 3; ++c) moved.push_back(static_cast<float>(direction(v, c)));
+        for (int c = 0; c < 3; ++c) turn.push_back(static_cast<float>(turned(v, c)));
+      }
+      const std::string name = "shape_" + std::to_string(k);
+      const std::int64_t channel = new_id(), shape = new_id();
+      objects_.add(node("Geometry", {i64(shape), text(object_name(name, "Geometry")), text("Shape")},
+                        {node("Version", {i32(100)}), node("Indexes", {ints(indexes)}), node("Vertices", {doubles(moved)}),
+                         node("Normals", {doubles(turn)})}));
+      objects_.add(node("Deformer", {i64(channel), text(object_name(name, "SubDeformer")), text("BlendShapeChannel")},
+                        {node("Version", {i32(100)}), node("DeformPercent", {f64(0.0)}), node("FullWeights", {doubles({100.0})}),
+                         node("Properties70", {}, {p("DeformPercent", "Number", "", "A", {f64(0.0)})})}));
+      connect(channel, blend_shape);
+      connect(shape, channel);
+    }
+    counts_["Geometry"] += model_.shape_count();
+    counts_["Deformer"] += 1 + model_.shape_count();
   }
 
   void add_clusters(const ExportRig& rig, const std::vector<std::int64_t>& bone, std::int64_t skin) {

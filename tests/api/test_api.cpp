@@ -314,6 +314,39 @@ TEST_F(ApiTest, NumbersTooLargeForADoubleAreA400NamingTheBody) {
 }
 
 // The list in the message is the fields the endpoint takes: mesh on /api/avatar, not on exports.
+// "morphs": true puts the model's shape directions into the rigged exports, one target each; an
+// OBJ cannot hold them and says which files can.
+TEST_F(ApiTest, ExportsCarryMorphTargetsWhenAsked) {
+  const int shapes = load_model(test::toy_models_dir() + "/toy-female.npz", Sex::Female).shape_count();
+  ASSERT_GT(shapes, 0);
+  json body = avatar_body(168, 62);
+  auto glb_targets = [&](const std::string& kind) {
+    const ApiResponse r = call("POST", "/api/export/" + kind, body.dump());
+    EXPECT_EQ(r.status, 200) << r.body;
+    std::uint32_t length = 0;
+    std::memcpy(&length, r.body.data() + 12, 4);
+    const json mesh = json::parse(r.body.substr(20, length))["meshes"][0];
+    return mesh["primitives"][0].value("targets", json::array()).size();
+  };
+  auto fbx_channels = [&] {
+    const ApiResponse r = call("POST", "/api/export/fbx", body.dump());
+    EXPECT_EQ(r.status, 200) << r.body;
+    size_t count = 0;
+    for (size_t at = r.body.find("BlendShapeChannel"); at != std::string::npos; at = r.body.find("BlendShapeChannel", at + 1)) ++count;
+    return count;
+  };
+  EXPECT_EQ(glb_targets("glb"), 0u);
+  EXPECT_EQ(fbx_channels(), 0u);
+  body["morphs"] = true;
+  EXPECT_EQ(glb_targets("glb"), static_cast<size_t>(shapes));
+  EXPECT_EQ(glb_targets("vrm"), static_cast<size_t>(shapes));
+  EXPECT_EQ(fbx_channels(), static_cast<size_t>(shapes));
+  const json e = expect_error(call("POST", "/api/export/obj", body.dump()), 400, "morphs");
+  EXPECT_NE(e["message"].get<std::string>().find(".glb, .vrm, .fbx"), std::string::npos) << e;
+  body["morphs"] = "yes";
+  expect_error(call("POST", "/api/export/glb", body.dump()), 400, "morphs");
+}
+
 TEST_F(ApiTest, UnknownFieldMessagesListWhatTheEndpointAccepts) {
   json body = avatar_body(170, 60);
   body["colour"] = "blue";
@@ -323,7 +356,7 @@ TEST_F(ApiTest, UnknownFieldMessagesListWhatTheEndpointAccepts) {
   body["mesh"] = false;
   EXPECT_EQ(call("POST", "/api/avatar", body.dump()).status, 200);
   e = expect_error(call("POST", "/api/export/obj", body.dump()), 400, "mesh");
-  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd, force, skeleton)"), std::string::npos) << e;
+  EXPECT_NE(e["message"].get<std::string>().find("sex, model, regressor, measurements, noise, noise_sd, force, skeleton, morphs)"), std::string::npos) << e;
 }
 
 // The viewer's pose: t (the default, the rest pose), a or stride on /api/avatar; anything else is

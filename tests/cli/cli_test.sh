@@ -72,8 +72,12 @@ expect 0 "FBX export" "$CALIPER" avatar --height 170 --weight 60 --skeleton huma
 head -c 18 "$TMP/a.fbx" >"$TMP/out"
 says "Kaydara FBX Binary" "the .fbx is a binary FBX"
 expect 0 "VRM export" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/a.vrm" -q --morphs
-expect 3 "--morphs in an FBX" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/b.fbx" --morphs
-says "only .glb and .vrm" "the --morphs error says which files take it"
+expect 0 "FBX export with blend shapes" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/m.fbx" -q --morphs
+expect 0 "the .fbx with --morphs has blend-shape channels" grep -aq "BlendShapeChannel" "$TMP/m.fbx"
+expect 1 "the .fbx without has none" grep -aq "BlendShapeChannel" "$TMP/a.fbx"
+expect 3 "--morphs in an OBJ" "$CALIPER" avatar --height 170 --weight 60 -o "$TMP/b.obj" --morphs
+says "only .glb, .vrm, .fbx" "the --morphs error says which files take it"
+expect 0 "nothing written for a refused --morphs" test ! -e "$TMP/b.obj"
 grep -c "VRMC_vrm" "$TMP/a.vrm" >"$TMP/out"
 says "1" "the .vrm has the VRMC_vrm extension"
 expect 3 "bad --set" "$CALIPER" avatar --height 170 --weight 60 --set chest_circumference=abc -o "$TMP/a.glb"
@@ -261,6 +265,17 @@ else
 fi
 expect 0 "batch" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch"
 expect 0 "batch wrote an avatar and a report per row" bash -c "ls '$TMP/batch' | grep -c . | grep -qx 6"
+# --format takes every file `avatar -o` writes, written by the same routine (provenance included).
+for format in vrm fbx obj; do
+  expect 0 "batch --format $format" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch-$format" --format $format
+  expect 0 "batch --format $format wrote a .$format per row" bash -c "ls '$TMP/batch-$format'/*.$format | grep -c . | grep -qx 3"
+done
+head -c 18 "$TMP/batch-fbx/ex-2.fbx" >"$TMP/out"
+says "Kaydara FBX Binary" "batch's .fbx is a binary FBX"
+expect 0 "batch's .vrm has the VRMC_vrm extension" grep -aq "VRMC_vrm" "$TMP/batch-vrm/ex-1.vrm"
+expect 0 "batch's .fbx carries its provenance" grep -aq "caliper_licence" "$TMP/batch-fbx/ex-1.fbx"
+expect 2 "batch --format stl" "$CALIPER" batch --subjects "$SRC/examples/people.csv" --out "$TMP/batch-stl" --format stl
+says "glb, vrm, fbx or obj" "the --format error lists the formats"
 
 # ---------------------------------------------------------------------------------------------
 # Capture sessions (issue 6; docs/capture.md): `serve --data`, a session fed over HTTP, the

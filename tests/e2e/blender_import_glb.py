@@ -4,8 +4,11 @@
 # that moves vertices, weights summing to 1, the rest shape unchanged by the import, each bone
 # pointing at its child, and a bent elbow that moves the forearm without tearing the mesh.
 #
-#   blender -b --factory-startup --python tests/e2e/blender_import_glb.py -- a.glb b.fbx ...
+#   blender -b --factory-startup --python tests/e2e/blender_import_glb.py -- a.glb [--shape-keys=N] b.fbx ...
 #
+# --shape-keys=N: the files after it were written with --morphs and must import with N shape
+# keys shape_0 … shape_N−1 (after Blender's Basis), all at 0, each moving the body a little;
+# files before it (or after --shape-keys=0) must have none.
 # Prints one JSON line per file; exits 1 if any check fails.
 import json
 import math
@@ -18,7 +21,7 @@ numpy.bool = bool  # Debian's numpy lacks the alias Blender 3.4's glTF importer 
 import bpy  # noqa: E402
 
 
-def check(path):
+def check(path, shape_keys):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     if path.lower().endswith(".fbx"):
         bpy.ops.import_scene.fbx(filepath=path)
@@ -61,6 +64,7 @@ def check(path):
         problems.append(f"skinning in the rest pose moves a vertex by {moved:.2e} m")
     problems += bone_problems(arm)
     problems += bend_problems(arm, mesh)
+    problems += shape_key_problems(mesh, shape_keys)
     zs = [(mesh.matrix_world @ v.co).z for v in mesh.data.vertices]  # Blender is Z-up
     return {
         "file": path,
@@ -73,6 +77,7 @@ def check(path):
         "lowest_z_m": round(min(zs), 4),
         "armature_object": arm.name,
         "mesh_parent": mesh.parent.name if mesh.parent else None,
+        "shape_keys": len(mesh.data.shape_keys.key_blocks) - 1 if mesh.data.shape_keys else 0,
     }
 
 
@@ -89,6 +94,25 @@ def bone_problems(arm):
         angle = math.degrees((b.tail_local - b.head_local).angle(to_child))
         if angle > 1.0:
             out.append(f"bone {b.name} points {angle:.1f}° away from {child.name}")
+    return out
+
+
+def shape_key_problems(mesh, expected):
+    """The --morphs blend shapes: Basis, then shape_0 … shape_{expected-1}, all at 0; each key at
+    1 moves some vertex by more than a millimetre and none by more than half a metre (one SD of
+    a body shape direction)."""
+    keys = mesh.data.shape_keys.key_blocks if mesh.data.shape_keys else []
+    names = [k.name for k in keys]
+    wanted = ["Basis"] + [f"shape_{k}" for k in range(expected)] if expected else []
+    if names != wanted:
+        return [f"shape keys {names[:4]}… ({len(names)}), expected {wanted[:4]}… ({len(wanted)})"]
+    out = []
+    for key in keys[1:]:
+        if key.value != 0.0:
+            out.append(f"shape key {key.name} is at {key.value}, not 0")
+        moved = max((a.co - b.co).length for a, b in zip(key.data, keys[0].data))
+        if not 1e-3 < moved < 0.5:
+            out.append(f"shape key {key.name} moves a vertex at most {moved:.4f} m")
     return out
 
 
@@ -120,14 +144,19 @@ def bend_problems(arm, mesh):
 
 
 def main():
-    files = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    files = [a for a in args if not a.startswith("--shape-keys=")]
     if not files:
         print("usage: blender -b --factory-startup --python blender_import_glb.py -- FILE.glb...", file=sys.stderr)
         sys.exit(2)
     ok = True
-    for f in files:
+    shape_keys = 0
+    for f in args:
+        if f.startswith("--shape-keys="):
+            shape_keys = int(f.split("=", 1)[1])
+            continue
         try:
-            result = check(f)
+            result = check(f, shape_keys)
         except Exception as e:  # an importer failure is a failed check, not a crash
             result = {"file": f, "ok": False, "problems": [f"import failed: {e}"]}
         ok = ok and result["ok"]

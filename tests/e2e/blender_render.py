@@ -2,8 +2,11 @@ import sys, math, numpy
 numpy.bool = bool
 import bpy
 from mathutils import Vector
+# blender -b --python blender_render.py -- FILE OUT.png ENGINE [shape_k=VALUE ...]: the avatar
+# with a bent elbow and knee, and the named shape keys (a --morphs file's) moved to VALUE.
 args = sys.argv[sys.argv.index("--")+1:]
 f, out, engine = args[0], args[1], args[2]
+shape_values = dict((k, float(v)) for k, v in (a.split("=", 1) for a in args[3:]))
 bpy.ops.wm.read_factory_settings(use_empty=True)
 if f.endswith(".fbx"):
     bpy.ops.import_scene.fbx(filepath=f)
@@ -16,6 +19,11 @@ for name in ("left_elbow", "LeftLowerArm"):
 for name in ("right_knee", "RightLowerLeg"):
     if name in arm.pose.bones:
         pb = arm.pose.bones[name]; pb.rotation_mode = "XYZ"; pb.rotation_euler = (math.radians(-40), 0, 0)
+for o in bpy.data.objects:
+    if o.type == "MESH" and o.data.shape_keys:
+        for name, value in shape_values.items():
+            key = o.data.shape_keys.key_blocks[name]
+            key.slider_min, key.value = min(key.slider_min, value), value
 scene = bpy.context.scene
 cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
 scene.collection.objects.link(cam)

@@ -327,6 +327,27 @@ try {
   await fbxDownload.saveAs(fbx);
   check(/\.fbx$/.test(fbx) && readFileSync(fbx).subarray(0, 18).toString('latin1') === 'Kaydara FBX Binary',
     'the .fbx export is a binary FBX', fbx);
+  check(!readFileSync(glb).includes('"targets"'), 'without the blend-shapes box the .glb has no morph targets');
+  // The blend-shapes box, ticked from the keyboard: the rigged exports carry the shape directions.
+  const morphBox = page.getByRole('checkbox', { name: 'blend shapes' });
+  await morphBox.focus();
+  await page.keyboard.press('Space');
+  check(await morphBox.isChecked(), 'the blend-shapes box has its accessible name and ticks with the keyboard');
+  const [morphDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-glb')]);
+  const morphGlb = join(tmp, `morphs-${morphDownload.suggestedFilename()}`);
+  await morphDownload.saveAs(morphGlb);
+  const morphBytes = readFileSync(morphGlb);
+  const morphDoc = JSON.parse(morphBytes.subarray(20, 20 + morphBytes.readUInt32LE(12)).toString('utf8'));
+  const targets = morphDoc.meshes[0].primitives[0].targets ?? [];
+  check(targets.length >= 10 && targets.length === morphDoc.meshes[0].extras?.targetNames?.length &&
+    morphDoc.meshes[0].weights.every((w) => w === 0),
+  'with the box ticked the .glb has a morph target per shape direction, all at weight 0', `${targets.length} targets`);
+  const [morphFbxDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-fbx')]);
+  const morphFbx = join(tmp, `morphs-${morphFbxDownload.suggestedFilename()}`);
+  await morphFbxDownload.saveAs(morphFbx);
+  const channels = readFileSync(morphFbx).toString('latin1').split('BlendShapeChannel').length - 1;
+  check(channels === targets.length, 'and the .fbx a blend-shape channel per shape direction', `${channels} channels`);
+  await morphBox.uncheck();
 
   // A set the server refuses: its message, with the range once.
   await page.setInputFiles('#import-file', { name: 'bad.csv', mimeType: 'text/csv', buffer: Buffer.from('measurement,value,unit\nheight,400,cm\n') });

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <algorithm>
@@ -13,6 +14,12 @@
 
 #include "caliper/caliper.h"
 #include "fixtures.h"
+
+#ifdef CALIPER_HAVE_ASSIMP
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#endif
 
 using namespace caliper;
 using nlohmann::json;
@@ -255,6 +262,31 @@ TEST(Vrm, NonCommercialModelsSayPersonalNonProfitAndModelsWithoutSmplNamesAreRef
   EXPECT_EQ(e.field(), "hips");
 }
 
+// The avatar's files: a format by name or by a path's ending (any case), the one rule for which
+// carry morph targets, and the refusal naming the caller's field.
+TEST(AvatarFiles, FormatsByNameAndEndingAndWhichCarryMorphs) {
+  EXPECT_EQ(avatar_format_named("FBX"), AvatarFormat::Fbx);
+  EXPECT_EQ(avatar_format_named("stl"), std::nullopt);
+  EXPECT_EQ(avatar_file_format("out.glb/me.Vrm", "--output"), AvatarFormat::Vrm);
+  EXPECT_EQ(test::catch_error([] { avatar_file_format("out.glb/me", "--output"); }).field(), "--output");
+  EXPECT_TRUE(is_avatar_file_name("ME.OBJ"));
+  EXPECT_FALSE(is_avatar_file_name("me.obj.png"));
+  for (AvatarFormat f : {AvatarFormat::Glb, AvatarFormat::Vrm, AvatarFormat::Fbx}) EXPECT_TRUE(avatar_format_carries_morphs(f));
+  EXPECT_FALSE(avatar_format_carries_morphs(AvatarFormat::Obj));
+  AvatarFileOptions morphs;
+  morphs.morphs = true;
+  check_avatar_file_options(AvatarFormat::Fbx, morphs, "--morphs");  // no throw
+  check_avatar_file_options(AvatarFormat::Obj, {}, "--morphs");
+  const Error e = test::catch_error([&] { check_avatar_file_options(AvatarFormat::Obj, morphs, "--morphs"); });
+  EXPECT_EQ(e.field(), "--morphs");
+  EXPECT_NE(std::string(e.what()).find("only .glb, .vrm, .fbx"), std::string::npos) << e.what();
+  const BodyModel& m = mannequin();
+  Avatar avatar;
+  avatar.rest_vertices = m.data().template_vertices;
+  EXPECT_EQ(test::catch_error([&] { write_avatar(AvatarFormat::Obj, m, avatar, morphs); }).field(), "morphs");
+  EXPECT_EQ(write_avatar(AvatarFormat::Obj, m, avatar).rfind("# Caliper avatar", 0), 0u);
+}
+
 // docs/engines.md's mapping table says what the code does: each row's SMPL, humanoid and VRM
 // names are one row of humanoid_bone_table(), and the left side and SMPL's trunk are all there.
 TEST(HumanoidNames, TheDocumentedTableMatchesTheCode) {
@@ -285,3 +317,177 @@ TEST(HumanoidNames, TheDocumentedTableMatchesTheCode) {
   for (const auto& name : rig_joint_names())
     if (name.rfind("right_", 0) != 0) EXPECT_TRUE(documented.count(name)) << name << " is not in docs/engines.md";
 }
+
+// ---- Unity and Unreal: their documented import requirements, on a built avatar's FBX ----------
+// Neither engine runs here. Each test checks one requirement their documentation states that a
+// file can be checked against mechanically, on the file `caliper avatar --sex female --height 165
+// --weight 61.5 --skeleton humanoid --morphs -o me.fbx` writes, read back by Assimp (an independent
+// reader). docs/engines.md lists what is and is not covered.
+#ifdef CALIPER_HAVE_ASSIMP
+namespace {
+
+struct EngineFbx {
+  std::string bytes;
+  Assimp::Importer importer;
+  const aiScene* scene = nullptr;
+
+  EngineFbx() {
+    const BodyModel& m = mannequin();
+    AvatarBuilder builder(std::make_shared<const BodyModel>(m));
+    AvatarRequest request;
+    request.measurements = {{"stature", 1.65}, {"weight", 61.5}};
+    request.vertex_uncertainty = false;
+    AvatarFileOptions file;
+    file.skeleton = SkeletonNaming::Humanoid;
+    file.morphs = true;
+    bytes = write_avatar(AvatarFormat::Fbx, m, builder.build(request), file);
+    scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_ValidateDataStructure, "fbx");
+  }
+  const aiNode* node(const std::string& name) const { return scene->mRootNode->FindNode(name.c_str()); }
+  // A node's rest position in the file's frame (metres).
+  Eigen::Vector3d at(const std::string& name) const {
+    aiMatrix4x4 world;
+    for (const aiNode* n = node(name); n; n = n->mParent) world = n->mTransformation * world;
+    return {world.a4, world.b4, world.c4};
+  }
+};
+
+const EngineFbx& engine_fbx() {
+  static const EngineFbx f;
+  return f;
+}
+
+#define REQUIRE_ENGINE_FBX()                                                                   \
+  const EngineFbx& fbx = engine_fbx();                                                        \
+  ASSERT_NE(fbx.scene, nullptr) << fbx.importer.GetErrorString();                              \
+  ASSERT_EQ(fbx.scene->mNumMeshes, 1u)
+
+double degrees_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+// Unity's Humanoid rig ("Configuring the Avatar"): every required bone matched, in the
+// predefined structure. The auto-mapper matches Unity's own HumanBodyBones names first.
+TEST(UnityRequirements, FbxHasEveryRequiredHumanoidBoneUnderItsParent) {
+  REQUIRE_ENGINE_FBX();
+  for (const auto& [bone, ancestor] : kUnityRequired) {
+    const aiNode* n = fbx.node(bone);
+    ASSERT_NE(n, nullptr) << bone << " missing";
+    if (ancestor.empty()) continue;
+    bool found = false;
+    for (const aiNode* up = n->mParent; up && !found; up = up->mParent) found = ancestor == up->mName.C_Str();
+    EXPECT_TRUE(found) << bone << " is not under " << ancestor;
+  }
+}
+
+// "…and that the model is in T-pose": arms straight out sideways, legs straight down, facing
+// the file's front (+Z), standing on the floor.
+TEST(UnityRequirements, FbxStandsInATPoseFacingItsFrontOnTheFloor) {
+  REQUIRE_ENGINE_FBX();
+  const Eigen::Vector3d left(1, 0, 0), down(0, -1, 0), front(0, 0, 1);
+  EXPECT_LT(degrees_between(fbx.at("LeftHand") - fbx.at("LeftUpperArm"), left), 10.0);
+  EXPECT_LT(degrees_between(fbx.at("RightHand") - fbx.at("RightUpperArm"), -left), 10.0);
+  EXPECT_LT(degrees_between(fbx.at("LeftFoot") - fbx.at("LeftUpperLeg"), down), 10.0);
+  EXPECT_LT(degrees_between(fbx.at("RightFoot") - fbx.at("RightUpperLeg"), down), 10.0);
+  EXPECT_LT(degrees_between(fbx.at("LeftToes") - fbx.at("LeftFoot"), front), 60.0);
+  const aiMesh* mesh = fbx.scene->mMeshes[0];
+  float lowest = 1e9f, highest = -1e9f;
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+    lowest = std::min(lowest, mesh->mVertices[v].y);
+    highest = std::max(highest, mesh->mVertices[v].y);
+  }
+  EXPECT_NEAR(lowest, 0.0, 1e-3);
+  EXPECT_NEAR(highest - lowest, 1.65, 0.01);  // the stature asked for, in file units (metres)
+}
+
+// Units and axes are declared, so Unity's Convert Units (file scale) gives 1 unit = 1 m and
+// Unreal's Convert Scene / Convert Scene Unit map the file onto centimetres, Z up.
+TEST(UnityRequirements, FbxDeclaresMetresYUpAndZFront) {
+  REQUIRE_ENGINE_FBX();
+  ASSERT_NE(fbx.scene->mMetaData, nullptr);
+  double scale = 0;
+  float scale_f = 0;  // Assimp keeps FBX doubles as float or double depending on the version
+  if (!fbx.scene->mMetaData->Get("UnitScaleFactor", scale) && fbx.scene->mMetaData->Get("UnitScaleFactor", scale_f)) scale = scale_f;
+  EXPECT_EQ(scale, 100.0);  // centimetres per file unit
+  const std::map<std::string, int> axes = {{"UpAxis", 1},    {"UpAxisSign", 1}, {"FrontAxis", 2},
+                                           {"FrontAxisSign", 1}, {"CoordAxis", 0}, {"CoordAxisSign", 1}};
+  for (const auto& [key, expected] : axes) {
+    int value = -9;
+    EXPECT_TRUE(fbx.scene->mMetaData->Get(key.c_str(), value)) << key;
+    EXPECT_EQ(value, expected) << key;
+  }
+}
+
+// Unity's standard skin import keeps 4 bones per vertex (ModelImporterSkinWeights.Standard);
+// Unreal takes up to 8 (12 in Unreal 5). Every vertex's weights sum to 1.
+TEST(UnityRequirements, FbxSkinHasAtMostFourNormalisedInfluencesPerVertex) {
+  REQUIRE_ENGINE_FBX();
+  const aiMesh* mesh = fbx.scene->mMeshes[0];
+  std::vector<int> count(mesh->mNumVertices, 0);
+  std::vector<double> sum(mesh->mNumVertices, 0.0);
+  for (unsigned b = 0; b < mesh->mNumBones; ++b)
+    for (unsigned k = 0; k < mesh->mBones[b]->mNumWeights; ++k) {
+      const aiVertexWeight& w = mesh->mBones[b]->mWeights[k];
+      ++count[w.mVertexId];
+      sum[w.mVertexId] += w.mWeight;
+    }
+  EXPECT_LE(*std::max_element(count.begin(), count.end()), 4);
+  EXPECT_GE(*std::min_element(count.begin(), count.end()), 1);
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) ASSERT_NEAR(sum[v], 1.0, 1e-5) << "vertex " << v;
+}
+
+// Unreal's FBX importer refuses a skeleton with several roots ("Multiple roots are found in the
+// bone hierarchy. We only support single root bone."): every bone descends from one, Root, on
+// the floor under the hips.
+TEST(UnrealRequirements, FbxSkeletonHasOneRootBoneOnTheFloorUnderTheHips) {
+  REQUIRE_ENGINE_FBX();
+  const ExportRig rig = export_rig(mannequin(), mannequin().joints(mannequin().data().template_vertices),
+                                   mannequin().data().template_vertices, SkeletonNaming::Humanoid);
+  const std::set<std::string> bones(rig.names.begin(), rig.names.end());
+  std::set<std::string> roots;
+  for (const auto& name : bones) {
+    const aiNode* n = fbx.node(name);
+    ASSERT_NE(n, nullptr) << name;
+    if (!n->mParent || !bones.count(n->mParent->mName.C_Str())) roots.insert(name);
+  }
+  EXPECT_EQ(roots, std::set<std::string>{"Root"});
+  EXPECT_NEAR(fbx.at("Root").y(), 0.0, 1e-3);
+  EXPECT_NEAR(fbx.at("Root").x(), fbx.at("Hips").x(), 1e-9);
+  EXPECT_NEAR(fbx.at("Root").z(), fbx.at("Hips").z(), 1e-9);
+}
+
+// Unreal builds the reference pose from the file's bind pose and warns when the skin's bind
+// matrices disagree with the skeleton: each bone's inverse bind (Assimp's offset matrix, from
+// the cluster) undoes its rest transform in the node tree, and the file has a BindPose.
+TEST(UnrealRequirements, FbxBindPoseIsTheSkeletonsRestPose) {
+  REQUIRE_ENGINE_FBX();
+  const aiMesh* mesh = fbx.scene->mMeshes[0];
+  ASSERT_GE(mesh->mNumBones, 50u);
+  for (unsigned b = 0; b < mesh->mNumBones; ++b) {
+    const aiBone* bone = mesh->mBones[b];
+    aiMatrix4x4 world;
+    for (const aiNode* n = fbx.node(bone->mName.C_Str()); n; n = n->mParent) world = n->mTransformation * world;
+    const aiMatrix4x4 product = bone->mOffsetMatrix * world;
+    for (unsigned r = 0; r < 4; ++r)
+      for (unsigned c = 0; c < 4; ++c) EXPECT_NEAR(product[r][c], r == c ? 1.0 : 0.0, 1e-5) << bone->mName.C_Str();
+  }
+  EXPECT_NE(fbx.bytes.find("BindPose"), std::string::npos);
+}
+
+// Unreal's Import Morph Targets and Unity's Import BlendShapes read FBX blend shapes: one per
+// shape direction of the model, named shape_k.
+TEST(UnrealRequirements, FbxBlendShapesAreOnePerShapeDirection) {
+  REQUIRE_ENGINE_FBX();
+  const aiMesh* mesh = fbx.scene->mMeshes[0];
+  ASSERT_EQ(mesh->mNumAnimMeshes, static_cast<unsigned>(mannequin().shape_count()));
+  std::set<std::string> names;
+  for (unsigned a = 0; a < mesh->mNumAnimMeshes; ++a) names.insert(mesh->mAnimMeshes[a]->mName.C_Str());
+  for (int k = 0; k < mannequin().shape_count(); ++k) EXPECT_TRUE(names.count("shape_" + std::to_string(k))) << k;
+}
+#else
+TEST(UnityRequirements, FbxHasEveryRequiredHumanoidBoneUnderItsParent) {
+  FAIL() << "built without Assimp: install libassimp-dev (scripts/install-deps.sh)";
+}
+#endif

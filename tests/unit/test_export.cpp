@@ -655,6 +655,50 @@ TEST(FbxAssimp, HumanoidNamesAndProvenanceProperties) {
   EXPECT_NE(bytes.find("caliper_licence"), std::string::npos);
 }
 
+// --morphs in FBX: Assimp turns the blend shapes into one anim mesh per shape direction, each the
+// mesh with that direction applied at full weight (the tube's β0 makes every point 1 % of its
+// template height taller, β1 moves vertex 5 by 2 cm along x and nothing else).
+TEST(FbxAssimp, BlendShapesAreTheShapeDirections) {
+  caliper::ExportOptions options;
+  options.morphs = true;
+  const Vertices rest = tube().rest_vertices(Eigen::Vector2d(0.5, 0.0));
+  const std::string bytes = caliper::write_fbx(tube(), rest, options);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_ValidateDataStructure, "fbx");
+  ASSERT_NE(scene, nullptr) << importer.GetErrorString();
+  ASSERT_EQ(scene->mNumMeshes, 1u);
+  const aiMesh* mesh = scene->mMeshes[0];
+  ASSERT_EQ(mesh->mNumAnimMeshes, 2u);
+  const Vertices& t = tube().data().template_vertices;
+  std::set<std::string> names;
+  for (unsigned a = 0; a < 2; ++a) {
+    const aiAnimMesh* target = mesh->mAnimMeshes[a];
+    names.insert(target->mName.C_Str());
+    const bool taller = std::string(target->mName.C_Str()) == "shape_0";
+    ASSERT_EQ(target->mNumVertices, mesh->mNumVertices);
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      // Assimp writes a vertex per triangle corner: find the model's vertex by its position.
+      const Eigen::Vector3d at(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z);
+      int k = 0;
+      for (int i = 1; i < kVertices; ++i)
+        if ((rest.row(i).transpose() - at).norm() < (rest.row(k).transpose() - at).norm()) k = i;
+      ASSERT_LT((rest.row(k).transpose() - at).norm(), 1e-6);
+      const Eigen::Vector3d expected = taller ? Eigen::Vector3d(0, 0.01 * t(k, 1), 0)
+                                              : Eigen::Vector3d(k == 5 ? 0.02 : 0.0, 0, 0);
+      const Eigen::Vector3d moved(target->mVertices[v].x - at.x(), target->mVertices[v].y - at.y(),
+                                  target->mVertices[v].z - at.z());
+      EXPECT_LT((moved - expected).norm(), 1e-6) << target->mName.C_Str() << " at vertex " << k;
+    }
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"shape_0", "shape_1"}));
+  // Off by default.
+  const std::string plain = caliper::write_fbx(tube(), rest);
+  const aiScene* without = importer.ReadFileFromMemory(plain.data(), plain.size(), aiProcess_ValidateDataStructure, "fbx");
+  ASSERT_NE(without, nullptr) << importer.GetErrorString();
+  EXPECT_EQ(without->mMeshes[0]->mNumAnimMeshes, 0u);
+  EXPECT_EQ(plain.find("BlendShape"), std::string::npos);
+}
+
 TEST(Fbx, BadInputThrows) {
   Vertices rest = tube().data().template_vertices;
   EXPECT_EQ(catch_error([&] { caliper::write_fbx(tube(), rest.topRows(3)); }).field(), "vertices");

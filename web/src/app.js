@@ -954,9 +954,13 @@ async function download(path, body, fallbackName) {
   }
 }
 
-$('export-glb').addEventListener('click', () => download('/api/export/glb', requestBody(), 'avatar.glb'));
-$('export-vrm').addEventListener('click', () => download('/api/export/vrm', requestBody(), 'avatar.vrm'));
-$('export-fbx').addEventListener('click', () => download('/api/export/fbx', requestBody(), 'avatar.fbx'));
+// The rigged files, with the model's shape directions as blend shapes when that box is ticked.
+function exportRigged(format) {
+  const body = requestBody();
+  if ($('export-morphs').checked) body.morphs = true;
+  download(`/api/export/${format}`, body, `avatar.${format}`);
+}
+for (const format of ['glb', 'vrm', 'fbx']) $(`export-${format}`).addEventListener('click', () => exportRigged(format));
 $('export-obj').addEventListener('click', () => download('/api/export/obj', requestBody(), 'avatar.obj'));
 $('export-report').addEventListener('click', () => download('/api/export/report', requestBody(), 'avatar-report.json'));
 const setBody = () => { const b = requestBody(); delete b.regressor; delete b.noise; delete b.force; return b; };

@@ -14,8 +14,9 @@ struct ExportOptions {
   SkeletonNaming skeleton = SkeletonNaming::Smpl;
   // Written into the file; without it, the model's part alone (model_provenance).
   std::optional<Provenance> provenance;
-  // glTF / VRM only: the model's shape directions as morph targets ("shape_0"…), weight 0, so an
+  // The model's shape directions as morph targets / blend shapes ("shape_0"…), weight 0, so an
   // engine can adjust the body live (weight w = β_k moved by w SD; the skeleton does not follow).
+  // glTF and VRM: mesh morph targets; FBX: a BlendShape deformer with one channel per direction.
   bool morphs = false;
 };
 
