@@ -464,6 +464,15 @@ struct CaptureApi::Impl {
     return out;
   }
 
+  ApiResponse mirror_body(const ApiRequest& req, const std::string& id) const {
+    exists(id);
+    require_read_access(req, id);
+    auto s = service().find(id);
+    if (!s) return not_found(id);
+    if (!options.mirror_body) refuse(404, "this server builds no mirror bodies", "path", "not_found");
+    return options.mirror_body(measurement_set_of(s->protocol), req);
+  }
+
   ApiResponse route(const ApiRequest& req) const {
     const std::string& path = req.path;
     const std::string& m = req.method;
@@ -514,6 +523,10 @@ struct CaptureApi::Impl {
     if (action == "export") {
       allow("GET");
       return export_set(req, id);
+    }
+    if (action == "mirror-body") {
+      allow("GET");
+      return mirror_body(req, id);
     }
     if (action == "pairing") {
       allow("POST");

@@ -181,6 +181,19 @@ expect 0 "report is JSON with the documented fields" node -e '
     r.measurements.chest_circumference && !("requested_cm" in r.measurements.chest_circumference);
   process.exit(ok ? 0 : 1);' "$TMP/r.json"
 expect 0 "glb passes the Khronos validator" node "$SRC/tools/validate-gltf.mjs" "$TMP/a.glb"
+# The same person 10 % heavier at the same stature (the virtual mirror's bodies): the report's
+# body reaches 66 kg (10 % of the 60 kg one) at 165 cm; out-of-range changes name the option.
+expect 0 "avatar --weight-change" "$CALIPER" avatar --sex female --height 165 --weight 60 --arm-span 168 --inseam 77 \
+  --hip-width 36 --weight-change 10 -o "$TMP/heavier.glb" --report "$TMP/heavier.json" -q
+expect 0 "the heavier body keeps the stature and gains the weight" node -e '
+  const m = JSON.parse(require("fs").readFileSync(process.argv[1])).measurements;
+  process.exit(Math.abs(m.stature.achieved_cm - 165) < 0.3 && Math.abs(m.weight.achieved_kg - 66) < 1.5 &&
+    Math.abs(m.span.achieved_cm - 168) < 1 && !("requested_cm" in m.hip_breadth) ? 0 : 1);' "$TMP/heavier.json"
+expect 3 "a weight change out of range" "$CALIPER" avatar --height 165 --weight 60 --weight-change 120 -o "$TMP/x.obj"
+says "--weight-change = 120 % is outside the accepted range [-50, 100] %" "names the option and the range"
+expect 3 "a weight change that is not a number" "$CALIPER" avatar --height 165 --weight 60 --weight-change nan -o "$TMP/x.obj"
+expect 3 "a weight change with --beta" "$CALIPER" avatar --beta 0 --weight-change 10 -o "$TMP/x.obj"
+says "needs measurements" "says why"
 expect 0 "glb has texture coordinates" grep -qa TEXCOORD_0 "$TMP/a.glb"
 expect 0 "obj export" "$CALIPER" avatar --sex male --height 180 --weight 85 -o "$TMP/a.obj" -q
 expect 0 "measure the exported OBJ" "$CALIPER" measure --mesh "$TMP/a.obj" --sex male --json
