@@ -1,6 +1,9 @@
-// The virtual mirror's endpoints (docs/api.md "Mirror bodies"): bodies with the weight changed
-// for a measurement set or a session (same topology and rig, stature kept, weight growing, the
-// list's limits) and who may read them (as reading a session).
+// The virtual mirror's endpoints (docs/api.md "Mirror bodies", "Body-image tasks"): bodies with
+// the weight changed for a measurement set or a session (same topology and rig, stature kept,
+// weight growing, the list's limits), who may read them (as reading a session), and the
+// body-image tasks stored with the session: started from the desktop only, read with the code,
+// answered once (409 after), bad fields named, kept by a new server on the same database and
+// carried by the session's JSON and tasks-CSV exports.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -202,6 +205,158 @@ TEST(MirrorApi, SessionBodiesNeedWhatReadingTheSessionNeeds) {
   const json fresh = body_of(call(api, "POST", "/api/sessions", R"({"sex": "female"})", {}, kDesktop));
   expect_error(call(api, "GET", "/api/sessions/" + fresh["session"]["id"].get<std::string>() + "/mirror-body", {}, {}, kDesktop), 409,
                "session");
+}
+
+json start_task(const Api& api, const std::string& id, const json& task) {
+  const ApiResponse r = call(api, "POST", "/api/sessions/" + id + "/body-image-tasks", task.dump(), {}, kDesktop);
+  EXPECT_EQ(r.status, 201) << r.body;
+  return body_of(r)["task"];
+}
+
+json answer_body(double chosen) {
+  return {{"chosen_weight_change_pct", chosen}, {"shown_at_s", 12.0}, {"answered_at_s", 31.4}, {"adjustments", 14}};
+}
+
+TEST(MirrorApi, TasksStartAnswerAndAbandon) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = measured_session(api);
+  const std::string tasks = "/api/sessions/" + id + "/body-image-tasks";
+
+  // Starting is the experimenter's: the desktop only, even with the code.
+  expect_error(call(api, "POST", tasks, R"({"kind": "adjust"})", code), 403, "session");
+  const json first = start_task(api, id, {{"kind", "adjust"}, {"instruction", "how_i_look"}, {"start_weight_change_pct", 20},
+                                          {"range_pct", {-30, 30}}});
+  EXPECT_EQ(first["state"], "running");
+  EXPECT_EQ(first["kind"], "adjust");
+  EXPECT_EQ(first["start_weight_change_pct"], 20.0);
+  EXPECT_EQ(first["range_pct"], json({-30.0, 30.0}));
+  EXPECT_TRUE(first["answer"].is_null());
+  EXPECT_EQ(first["id"].get<std::string>().rfind("t-", 0), 0u);
+
+  // The headset reads them with the code.
+  expect_error(call(api, "GET", tasks), 403, "pairing_code");
+  json list = body_of(call(api, "GET", tasks, {}, code));
+  ASSERT_EQ(list["tasks"].size(), 1u);
+  EXPECT_EQ(list["current"]["id"], first["id"]);
+
+  // Answered with the code; the answer carries the weight the change means for her (80 kg
+  // entered, stature measured by the scripted person).
+  const std::string answer = tasks + "/" + first["id"].get<std::string>() + "/answer";
+  expect_error(call(api, "POST", answer, answer_body(7.5).dump()), 403, "pairing_code");
+  const ApiResponse ok = call(api, "POST", answer, answer_body(7.5).dump(), code);
+  ASSERT_EQ(ok.status, 200) << ok.body;
+  const json done = body_of(ok)["task"];
+  EXPECT_EQ(done["state"], "answered");
+  const json& a = done["answer"];
+  EXPECT_EQ(a["chosen_weight_change_pct"], 7.5);
+  EXPECT_NEAR(a["chosen_weight_kg"].get<double>(), 86.0, 0.01);
+  const double stature = test::ScriptedPerson().stature();
+  EXPECT_NEAR(a["chosen_bmi"].get<double>(), 86.0 / (stature * stature), 0.05);
+  EXPECT_EQ(a["shown_at_s"], 12.0);
+  EXPECT_EQ(a["answered_at_s"], 31.4);
+  EXPECT_EQ(a["adjustments"], 14);
+  EXPECT_EQ(a["answered"].get<std::string>().size(), 20u);  // 2026-11-25T16:00:00Z
+  list = body_of(call(api, "GET", tasks, {}, code));
+  EXPECT_TRUE(list["current"].is_null());
+
+  // Only a running task takes an answer.
+  expect_error(call(api, "POST", answer, answer_body(5).dump(), code), 409, "task_id");
+
+  // A new task abandons the running one.
+  const json second = start_task(api, id, {{"kind", "adjust"}, {"instruction", "how_i_would_like_to_look"}});
+  const json third = start_task(api, id, {{"kind", "show"}, {"instruction", "Look at yourself, please"}, {"start_weight_change_pct", -10}});
+  list = body_of(call(api, "GET", tasks, {}, {}, kDesktop));
+  ASSERT_EQ(list["tasks"].size(), 3u);
+  EXPECT_EQ(list["tasks"][1]["state"], "abandoned");
+  EXPECT_EQ(list["tasks"][2]["state"], "running");
+  EXPECT_EQ(list["current"]["id"], third["id"]);
+  expect_error(call(api, "POST", tasks + "/" + second["id"].get<std::string>() + "/answer", answer_body(0).dump(), code), 409,
+               "task_id");
+  // A show task takes no answer.
+  expect_error(call(api, "POST", tasks + "/" + third["id"].get<std::string>() + "/answer", answer_body(0).dump(), code), 409,
+               "task_id");
+  expect_error(call(api, "POST", tasks + "/t-000000000000/answer", answer_body(0).dump(), code), 404, "task_id");
+  expect_error(call(api, "GET", tasks + "/" + third["id"].get<std::string>() + "/answer", {}, code), 405, "method");
+  expect_error(call(api, "GET", "/api/sessions/s-000000000000/body-image-tasks", {}, {}, kDesktop), 404, "id");
+
+  // A new server on the same database has them all, and the exports carry them.
+  Api again(options_for(dir / "s.db"));
+  list = body_of(call(again, "GET", tasks, {}, code));
+  ASSERT_EQ(list["tasks"].size(), 3u);
+  EXPECT_EQ(list["tasks"][0]["answer"], a);
+  const ApiResponse exported = call(again, "GET", "/api/sessions/" + id + "/export", {}, code, kHeadset, {{"format", "json"}});
+  ASSERT_EQ(exported.status, 200) << exported.body;
+  const json e = body_of(exported);
+  ASSERT_EQ(e["body_image_tasks"].size(), 3u);
+  EXPECT_EQ(e["body_image_tasks"][0], list["tasks"][0]);
+  EXPECT_EQ(parse_measurement_set(exported.body).edge.at("weight"), 80.0);  // still a measurement set
+  const ApiResponse csv = call(again, "GET", "/api/sessions/" + id + "/export", {}, code, kHeadset, {{"format", "tasks-csv"}});
+  ASSERT_EQ(csv.status, 200) << csv.body;
+  EXPECT_EQ(csv.download_name, "caliper-" + id + "-tasks.csv");
+  EXPECT_EQ(csv.body.rfind("task_id,kind,instruction,start_weight_change_pct,range_min_pct,range_max_pct,state,created,"
+                           "chosen_weight_change_pct,chosen_weight_kg,chosen_bmi,shown_at_s,answered_at_s,adjustments,answered\n",
+                           0),
+            0u);
+  EXPECT_NE(csv.body.find(first["id"].get<std::string>() + ",adjust,how_i_look,20,-30,30,answered,"), std::string::npos) << csv.body;
+  EXPECT_NE(csv.body.find(",7.5,86,"), std::string::npos) << csv.body;
+  EXPECT_NE(csv.body.find(",show,\"Look at yourself, please\",-10,-30,30,running,"), std::string::npos) << csv.body;
+  EXPECT_EQ(std::count(csv.body.begin(), csv.body.end(), '\n'), 4);
+}
+
+TEST(MirrorApi, BadTasksAndAnswersNameTheField) {
+  TempDir dir;
+  Api api(options_for(dir / "s.db"));
+  const auto [id, code] = measured_session(api);
+  const std::string tasks = "/api/sessions/" + id + "/body-image-tasks";
+  auto start = [&](const std::string& body) { return call(api, "POST", tasks, body, {}, kDesktop); };
+  expect_error(start(R"({"kind": "stare"})"), 400, "kind");
+  expect_error(start(R"({"kind": 3})"), 400, "kind");
+  expect_error(start(R"({"instruction": ""})"), 400, "instruction");
+  expect_error(start(json{{"instruction", std::string(201, 'a')}}.dump()), 400, "instruction");
+  expect_error(start(json{{"instruction", "two\nlines"}}.dump()), 400, "instruction");
+  EXPECT_EQ(start(json{{"instruction", std::string(100, 'a') + std::string(100, 'e') /* 200 */}}.dump()).status, 201);
+  EXPECT_EQ(start(json{{"instruction", "Wie sehe ich aus? " + std::string(60, 'a') + "\u00e4\u00f6\u00fc"}}.dump()).status, 201);
+  expect_error(start(R"({"range_pct": [30, -30]})"), 400, "range_pct");
+  expect_error(start(R"({"range_pct": [-30]})"), 400, "range_pct");
+  expect_error(start(R"({"range_pct": [-60, 30]})"), 400, "range_pct");
+  expect_error(start(R"({"range_pct": [-30, null]})"), 400, "range_pct");
+  expect_error(start(R"({"start_weight_change_pct": 40})"), 400, "start_weight_change_pct");
+  expect_error(start(R"({"start_weight_change_pct": "10"})"), 400, "start_weight_change_pct");
+  expect_error(start(R"({"colour": "red"})"), 400, "colour");
+  expect_error(start("not json"), 400, "body");
+
+  const json t = start_task(api, id, {{"kind", "adjust"}, {"range_pct", {-20, 40}}});
+  const std::string answer = tasks + "/" + t["id"].get<std::string>() + "/answer";
+  auto send = [&](const json& body) { return call(api, "POST", answer, body.dump(), code); };
+  json bad = answer_body(45);
+  expect_error(send(bad), 400, "chosen_weight_change_pct");
+  bad = answer_body(-21);
+  expect_error(send(bad), 400, "chosen_weight_change_pct");
+  bad = answer_body(5);
+  bad["chosen_weight_change_pct"] = nullptr;
+  expect_error(send(bad), 400, "chosen_weight_change_pct");
+  bad = answer_body(5);
+  bad["answered_at_s"] = 3.0;  // before it was shown
+  expect_error(send(bad), 400, "answered_at_s");
+  bad = answer_body(5);
+  bad["shown_at_s"] = -1.0;
+  expect_error(send(bad), 400, "shown_at_s");
+  bad = answer_body(5);
+  bad["adjustments"] = 2.5;
+  expect_error(send(bad), 400, "adjustments");
+  bad = answer_body(5);
+  bad["adjustments"] = -1;
+  expect_error(send(bad), 400, "adjustments");
+  bad = answer_body(5);
+  bad.erase("shown_at_s");
+  expect_error(send(bad), 400, "shown_at_s");
+  bad = answer_body(5);
+  bad["mood"] = "fine";
+  expect_error(send(bad), 400, "mood");
+  // None of those changed the task: the good answer still goes through, once.
+  EXPECT_EQ(send(answer_body(40)).status, 200);
+  expect_error(send(answer_body(40)), 409, "task_id");
 }
 
 }  // namespace

@@ -313,6 +313,12 @@ if (cmd === 'create') {
 } else if (cmd === 'entries') {
   const r = await post(`/sessions/${id}/entries`, {weight_kg: 61.5}, code);
   console.log(`${r.status}`);
+} else if (cmd === 'task') {
+  // The experimenter (this machine) starts an adjust task; the headset answers it with the code.
+  const t = await (await post(`/sessions/${id}/body-image-tasks`, {kind: 'adjust', instruction: 'how_i_look'})).json();
+  const r = await post(`/sessions/${id}/body-image-tasks/${t.task.id}/answer`,
+    {chosen_weight_change_pct: 10, shown_at_s: 1, answered_at_s: 5, adjustments: 4}, code);
+  console.log(`${r.status} ${(await r.json()).task.state}`);
 } else if (cmd === 'nocode') {
   const r = await post(`/sessions/${id}/undo`, {}, '');
   console.log(`${r.status}`);
@@ -346,6 +352,8 @@ says "200 2" "two more points"
 expect 0 "the floor is calibrated" node "$TMP/cap.mjs" "$PORT" get "$SID"
 says "measuring 0 0.01" "floor at 1 cm, measuring"
 expect 0 "enter the weight" node "$TMP/cap.mjs" "$PORT" entries "$SID" "$CODE"
+expect 0 "a body-image task answered" node "$TMP/cap.mjs" "$PORT" task "$SID" "$CODE"
+says "200 answered" "and stored"
 # One estimator behind every path (issue 14): a self-measured set gives the same body from the
 # CLI, from the capture page's request, and from the desktop tool (which imports the set and
 # sends the noise its measured_by names).
@@ -378,11 +386,16 @@ expect 0 "sessions help" "$CALIPER" sessions --help
 expect 0 "sessions list" "$CALIPER" sessions --data "$CAP" list
 says "$SID" "the session is listed"
 says "measuring" "with its state"
+says " 1/1 " "and its answered body-image task"
 expect 0 "sessions export csv" "$CALIPER" sessions --data "$CAP" export "$SID" -o "$TMP/me.csv"
 expect 0 "the export has the weight" grep -qx "weight,61.5,kg" "$TMP/me.csv"
 expect 0 "sessions export json to stdout" "$CALIPER" sessions --data "$CAP" export "$SID"
 says '"format": "caliper-measurements"' "the JSON measurement-set format"
 says '"measured_by": "self"' "a capture export says who measured"
+says '"body_image_tasks"' "and carries the body-image tasks"
+expect 0 "sessions export tasks-csv" "$CALIPER" sessions --data "$CAP" export "$SID" --format tasks-csv
+says ",adjust,how_i_look,0,-30,30,answered," "the answered task"
+says ",10,67.65," "its chosen change and the weight it means (61.5 kg + 10 %)"
 printf 'measurement,value,unit\nsex,male,\nstature,1800,mm\nweight,82,kg\n' >"$TMP/set.csv"
 expect 0 "avatar from a measurement set" "$CALIPER" avatar --measurements "$TMP/set.csv" -o "$TMP/set.obj"
 says "mannequin-male" "the file's sex is used"
