@@ -95,9 +95,13 @@ void expect_mirror_bodies(const json& j, const std::vector<double>& pcts) {
     const double w = b["weight_kg"].get<double>();
     EXPECT_NEAR(w, j["weight_kg"].get<double>() * (1 + pcts[i] / 100), 0.03 * j["weight_kg"].get<double>());
     EXPECT_NEAR(b["bmi"].get<double>(), w / (top * top), 0.2);
-    if (i > 0) EXPECT_GT(w, previous);
+    if (i > 0) {
+      EXPECT_GT(w, previous);
+    }
     previous = w;
-    if (pcts[i] == 0) EXPECT_NEAR(w, j["weight_kg"].get<double>(), 0.051);
+    if (pcts[i] == 0) {
+      EXPECT_NEAR(w, j["weight_kg"].get<double>(), 0.051);
+    }
   }
 }
 
