@@ -37,7 +37,7 @@ endforeach()
 
 # The top-level headers each stage may use, and the stage of the other top-level files.
 set(CALIPER_BASE_HEADERS errors.h utf8.h private_files.h random.h)
-set(CALIPER_TOP_HEADERS avatar.h avatar_report.h)
+set(CALIPER_TOP_HEADERS avatar.h avatar_report.h avatar_weight_change.h)
 
 # The files of a stage, relative to `root`.
 function(caliper_stage_files root stage out)

@@ -1,13 +1,20 @@
-// The kill -9 test (docs/reliability.md "Killed mid-session"): no acknowledged capture point is lost.
+// The kill -9 test (docs/reliability.md "Killed mid-session"): no acknowledged capture point and
+// no acknowledged body-image answer is lost.
 //
-// Drives capture sessions over the HTTP API as a headset would (sessions created and paired,
-// controller samples POSTed, one trigger hold per request), kills the server with SIGKILL at a
-// random moment, restarts it on the same data folder, and checks from the desktop (loopback) that
-// every point whose `point_accepted` the client received is in the session. Points stored
-// whose answer the kill cut off are counted too (allowed: the client never heard of them).
-// Exit 0 only if at least one point was acknowledged in every round and none was lost.
+// --mode points (the default): drives capture sessions over the HTTP API as a headset would
+// (sessions created and paired, controller samples POSTed, one trigger hold per request), kills
+// the server with SIGKILL at a random moment, restarts it on the same data folder, and checks
+// from the desktop (loopback) that every point whose `point_accepted` the client received is in
+// the session. Points stored whose answer the kill cut off are counted too (allowed: the client
+// never heard of them). Exit 0 only if at least one point was acknowledged in every round and
+// none was lost.
 //
-//   node scripts/kill-test.mjs --caliper build/bin/caliper [--rounds 20] [--seed 1]
+// --mode tasks: the virtual mirror's body-image tasks. Each round the experimenter (loopback)
+// starts adjust tasks and the headset answers them with the pairing code; the server is killed
+// the moment the client has the 200 of a (seeded random) 1st to 4th answer, restarted, and every
+// answer the client was told was stored must be there, with the values it sent.
+//
+//   node scripts/kill-test.mjs --caliper build/bin/caliper [--mode points|tasks] [--rounds 20] [--seed 1]
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -20,6 +27,8 @@ const option = (name, fallback) => {
 };
 const caliper = option('caliper', 'build/bin/caliper');
 const rounds = option('rounds', 20);
+const mode = option('mode', 'points');
+if (mode !== 'points' && mode !== 'tasks') throw new Error(`--mode must be points or tasks, got ${mode}`);
 let seed = option('seed', 1);
 if (!(rounds >= 1)) throw new Error(`--rounds must be a number >= 1, got ${rounds}`);
 // A seeded generator (xorshift32): the kill moments of a run can be replayed.
@@ -116,6 +125,68 @@ async function check(base) {
     if (s === current) current.step = r.json.session.step;
   }
   return { lost, extra, stored };
+}
+
+// ---- Body-image answers (--mode tasks).
+
+const answers = new Map();  // task id → the answer the client sent and was told is stored
+let taskSession = null;
+
+// Starts a task and answers it; on the given answer's 200 the server is killed at once.
+async function answerTasks(base, child, killAt) {
+  if (!taskSession) {
+    const r = await call(base, 'POST', '/api/sessions', { sex: 'female', weight_kg: 60 });
+    if (r.status !== 201) throw new Error(`creating a session: ${r.status} ${JSON.stringify(r.json)}`);
+    taskSession = { id: r.json.session.id, code: r.json.pairing_code };
+  }
+  const tasks = `/api/sessions/${taskSession.id}/body-image-tasks`;
+  for (let n = 1; ; n++) {
+    const started = await call(base, 'POST', tasks, { kind: 'adjust', instruction: 'how_i_look', start_weight_change_pct: 20, range_pct: [-30, 30] });
+    if (started.status !== 201) throw new Error(`starting a task: ${started.status} ${JSON.stringify(started.json)}`);
+    const answer = { chosen_weight_change_pct: Math.round(random() * 600 - 300) / 10, shown_at_s: 1 + n, answered_at_s: 10 + n, adjustments: n };
+    const r = await call(base, 'POST', `${tasks}/${started.json.task.id}/answer`, answer, taskSession.code);
+    if (r.status !== 200) throw new Error(`answering: ${r.status} ${JSON.stringify(r.json)}`);
+    answers.set(started.json.task.id, answer);
+    if (n === killAt) {
+      child.kill('SIGKILL');  // right after the 200: nothing may be waiting to be written
+      return n;
+    }
+  }
+}
+
+// From the desktop after a restart: the answers acknowledged that are missing or changed.
+async function checkAnswers(base) {
+  const r = await call(base, 'GET', `/api/sessions/${taskSession.id}/body-image-tasks`);
+  if (r.status !== 200) throw new Error(`reading the tasks after the restart: ${r.status} ${JSON.stringify(r.json)}`);
+  const stored = new Map(r.json.tasks.map((t) => [t.id, t]));
+  let lost = 0;
+  for (const [id, sent] of answers) {
+    const t = stored.get(id);
+    const a = t && t.state === 'answered' ? t.answer : null;
+    if (!a || Object.keys(sent).some((k) => a[k] !== sent[k])) {
+      lost++;
+      console.log(`lost or changed: task ${id} sent ${JSON.stringify(sent)}, stored ${JSON.stringify(t)}`);
+    }
+  }
+  return lost;
+}
+
+if (mode === 'tasks') {
+  let lost = 0;
+  for (let round = 1; round <= rounds; round++) {
+    const { child, base } = await startServer();
+    const exited = new Promise((r) => child.on('exit', r));
+    const n = await answerTasks(base, child, 1 + Math.floor(random() * 4));
+    await exited;
+    const restarted = await startServer();
+    lost += await checkAnswers(restarted.base);
+    restarted.child.kill('SIGKILL');
+    await new Promise((r) => restarted.child.on('exit', r));
+    console.log(`round ${round}: killed right after the 200 of answer ${n}; ${answers.size} answers acknowledged so far`);
+  }
+  rmSync(data, { recursive: true, force: true });
+  console.log(`${rounds} kills: ${answers.size} body-image answers acknowledged, ${lost} lost or changed`);
+  process.exit(lost === 0 && answers.size >= rounds ? 0 : 1);
 }
 
 let totalAcknowledged = 0, totalLost = 0, totalExtra = 0, emptyRounds = 0;

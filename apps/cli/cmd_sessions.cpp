@@ -1,11 +1,13 @@
 // `caliper sessions list|export|pair|delete`: capture sessions (docs/capture.md) stored by
 // `caliper serve` in the data folder's sessions.db.
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <optional>
 #include <sstream>
 
+#include "caliper/capture/body_image_task.h"
 #include "caliper/capture/measurement_set.h"
 #include "caliper/capture/service.h"
 #include "common.h"
@@ -50,7 +52,8 @@ void register_sessions(CLI::App& app) {
   cmd->require_subcommand(1);
   cmd->fallthrough();  // `caliper sessions list --data DIR` as well as `caliper sessions --data DIR list`
 
-  CLI::App* list = cmd->add_subcommand("list", "One line per session, newest first: id, created, state, progress, values");
+  CLI::App* list = cmd->add_subcommand(
+      "list", "One line per session, newest first: id, created, state, progress, body-image tasks (answered/all), values");
   list->callback([=] {
     auto svc = open_existing(*data_dir);
     if (!svc) {
@@ -63,34 +66,43 @@ void register_sessions(CLI::App& app) {
       return;
     }
     std::cout << std::left << std::setw(16) << "id" << std::setw(22) << "created" << std::setw(11) << "state" << std::setw(7)
-              << "steps" << std::setw(7) << "mode" << "values (cm, kg)\n";
+              << "steps" << std::setw(7) << "mode" << std::setw(7) << "tasks" << "values (cm, kg)\n";
     for (const auto& s : sessions) {
       const auto& p = s.protocol;
       std::ostringstream values;
       values << std::fixed << std::setprecision(1);
       for (const auto& [name, v] : p.measurement_set()) values << name << "=" << v << " ";
       if (p.sex()) values << "sex=" << to_string(*p.sex());
+      const auto tasks = svc->tasks(s.id).value_or(std::vector<capture::BodyImageTask>{});
+      const auto answered = std::count_if(tasks.begin(), tasks.end(), [](const auto& t) { return t.answer.has_value(); });
       std::cout << std::left << std::setw(16) << s.id << std::setw(22) << s.created << std::setw(11) << to_string(p.state())
                 << std::setw(7) << (std::to_string(p.steps_done()) + "/" + std::to_string(p.steps_total())) << std::setw(7)
-                << to_string(p.config().mode) << values.str() << "\n";
+                << to_string(p.config().mode) << std::setw(7) << (std::to_string(answered) + "/" + std::to_string(tasks.size()))
+                << values.str() << "\n";
     }
   });
 
   auto id = std::make_shared<std::string>();
   auto output = std::make_shared<std::string>();
   auto format = std::make_shared<std::string>();
-  CLI::App* exp = cmd->add_subcommand("export", "Write a session's measurement set (JSON or CSV; `caliper avatar --measurements` reads it)");
+  CLI::App* exp = cmd->add_subcommand(
+      "export",
+      "Write a session's measurement set (JSON with its body-image tasks, or CSV; `caliper avatar --measurements` reads "
+      "both) or its body-image tasks as CSV (tasks-csv)");
   exp->add_option("id", *id, "session id (s-…)")->required();
   exp->add_option("-o,--output", *output, "output file (.json or .csv); without it, JSON on standard output");
-  exp->add_option("--format", *format, "json or csv (default: from the output's extension, else json)")
-      ->check(CLI::IsMember({"json", "csv"}));
+  exp->add_option("--format", *format, "json, csv or tasks-csv (default: from the output's extension, else json)")
+      ->check(CLI::IsMember({"json", "csv", "tasks-csv"}));
   exp->callback([=] {
     auto svc = open_existing(*data_dir);
     const capture::Session s = find_or_throw(existing_or_throw(svc, *data_dir, *id), *id);
     const MeasurementSetFile set = measurement_set_of(s.protocol);
     std::string fmt = *format;
     if (fmt.empty()) fmt = output->size() >= 4 && output->substr(output->size() - 4) == ".csv" ? "csv" : "json";
-    const std::string text = fmt == "csv" ? write_measurement_set_csv(set) : write_measurement_set_json(set);
+    const std::vector<capture::BodyImageTask> tasks = svc->tasks(s.id).value_or(std::vector<capture::BodyImageTask>{});
+    const std::string text = fmt == "csv"         ? write_measurement_set_csv(set)
+                             : fmt == "tasks-csv" ? capture::write_body_image_tasks_csv(tasks)
+                                                  : capture::write_session_json(set, tasks);
     if (s.protocol.state() != capture::SessionState::Done)
       std::cerr << "caliper sessions: warning: session " << s.id << " is not finished (state " << to_string(s.protocol.state())
                 << "); exporting the values it has\n";

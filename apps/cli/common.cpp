@@ -73,6 +73,11 @@ void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta) {
   add_measurement(app, opts, "arm_length", "--arm-length");
   app.add_option("--set", opts.extra, "any other measurement as NAME=VALUE (cm or kg), e.g. chest_circumference=95")
       ->type_name("NAME=VALUE");
+  app.add_option_function<double>(
+         "--weight-change", [&opts](const double& v) { opts.weight_change_pct = v; },
+         "the same person with body weight changed by this many percent at the same stature (-50 to 100): the "
+         "estimator keeps the lengths given and lets the girths follow (docs/cli.md)")
+      ->type_name("PERCENT");
   app.add_option("--map", opts.map_file, "real-to-virtual map (JSON, see `caliper map fit`) applied to the inputs instead of the model's own");
   if (allow_beta)
     app.add_option("--beta", opts.beta, "shape values instead of measurements (comma separated)")->delimiter(',');
@@ -164,10 +169,14 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
       throw SuspectValues(ErrorKind::InvalidArgument, describe_suspects(suspects), suspects.front().field);
   // Values are checked before the model is loaded, so a bad value is reported as such.
   std::map<std::string, double> si = measurements_from_edge(edge);
+  if (opts.weight_change_pct) check_weight_change(*opts.weight_change_pct, "--weight-change");
   out.model = std::make_shared<const BodyModel>(load_model(opts.model, sex));
   if (!opts.beta.empty()) {
     if (!edge.empty())
       throw Error(ErrorKind::InvalidArgument, "give either --beta or measurements, not both", "--beta");
+    if (opts.weight_change_pct)
+      throw Error(ErrorKind::InvalidArgument, "--weight-change needs measurements (it keeps the lengths given), not --beta",
+                  "--weight-change");
     // β ~ N(0, I): beyond ±5 SD the shape space extrapolates into bodies that are not bodies.
     for (size_t k = 0; k < opts.beta.size(); ++k)
       if (!std::isfinite(opts.beta[k]) || std::abs(opts.beta[k]) > 5) {
@@ -196,6 +205,7 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
   }
   AvatarBuilder builder(out.model);
   out.avatar = builder.build(request);
+  if (opts.weight_change_pct) out.avatar = with_weight_change(builder, out.avatar, *opts.weight_change_pct);
   return out;
 }
 

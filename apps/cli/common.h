@@ -4,6 +4,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,9 @@ struct BodyOptions {
   std::string noise;
   std::vector<std::string> noise_sd;        // regressor "map": NAME=SD (cm or kg) overrides
   bool force = false;                       // build even if values look swapped or in the wrong unit
+  // The same person with body weight changed by this many percent at the same stature
+  // (avatar_weight_change.h); empty: the avatar as measured.
+  std::optional<double> weight_change_pct;
 };
 void add_body_options(CLI::App& app, BodyOptions& opts, bool allow_beta);
 

@@ -4,6 +4,7 @@
 #include "api.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -126,6 +127,7 @@ ordered_json range_json(const MeasurementInfo& info) {
 // Request parsing.
 
 struct BodyRequest {
+  std::vector<double> weights;  // /api/mirror-body: the weight changes, percent (mirror_weights)
   std::string model;
   Sex sex = Sex::Female;
   std::string regressor = "auto";
@@ -185,12 +187,51 @@ void check_measurements(const std::map<std::string, double>& edge, bool force) {
   for (const auto& [name, v] : edge) edge_to_si(*find_measurement_info(name), v);  // names the field and the range
 }
 
-BodyRequest parse_body_request(const std::string& body, const std::string& default_model, bool allow_mesh_flag) {
+// The virtual mirror's weight changes (docs/api.md "Mirror bodies"): at most 21, each in the
+// accepted range; 0 (the person as measured) always among them; ascending, without repeats.
+constexpr size_t kMaxMirrorBodies = 21;
+const std::vector<double>& default_mirror_weights() {
+  static const std::vector<double> w = {-30, -20, -10, 0, 10, 20, 30};
+  return w;
+}
+std::vector<double> mirror_weights(std::vector<double> w) {
+  if (w.size() > kMaxMirrorBodies)
+    bad("weights holds at most " + std::to_string(kMaxMirrorBodies) + " values (got " + std::to_string(w.size()) + ")", "weights");
+  for (double v : w) check_weight_change(v, "weights");
+  w.push_back(0);
+  std::sort(w.begin(), w.end());
+  w.erase(std::unique(w.begin(), w.end()), w.end());
+  if (w.size() > kMaxMirrorBodies)
+    bad("weights holds at most " + std::to_string(kMaxMirrorBodies) + " values, 0 included", "weights");
+  return w;
+}
+// "-30,-20,0,7.5" (a query parameter) → numbers; anything else in the list is a 400 naming "weights".
+std::vector<double> parse_weight_list(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (out.size() > kMaxMirrorBodies) break;  // refused by mirror_weights; do not parse a huge list
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size() || errno == ERANGE)
+      bad("weights must be a comma list of percentages, e.g. -30,-20,-10,0,10,20,30 (got '" + item.substr(0, 40) + "')", "weights");
+    out.push_back(v);
+  }
+  return out;
+}
+
+enum class BodyEndpoint { Avatar, Export, Mirror };
+
+BodyRequest parse_body_request(const std::string& body, const std::string& default_model, BodyEndpoint endpoint) {
   const ordered_json j = parse_json_body(body);
+  const bool allow_mesh_flag = endpoint == BodyEndpoint::Avatar;
   // The message lists exactly what this endpoint takes ("mesh" and "pose" only on /api/avatar).
   std::vector<std::string> known = {"sex", "model", "regressor", "measurements", "noise", "noise_sd", "force"};
   if (allow_mesh_flag) known.insert(known.begin() + 4, {"mesh", "pose"});
-  else known.insert(known.end(), {"skeleton", "morphs"});  // the export endpoints
+  else if (endpoint == BodyEndpoint::Export) known.insert(known.end(), {"skeleton", "morphs"});
+  else known.push_back("weights");
   for (const auto& [key, value] : j.items())
     if (std::find(known.begin(), known.end(), key) == known.end()) {
       std::string list;
@@ -218,6 +259,19 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   r.file.skeleton = parse_skeleton_naming(string_field(j, "skeleton", "smpl"), "skeleton");
   if (j.contains("morphs") && !j["morphs"].is_boolean()) bad("morphs must be true or false", "morphs");
   r.file.morphs = j.value("morphs", false);
+  if (endpoint == BodyEndpoint::Mirror) {
+    std::vector<double> w = default_mirror_weights();
+    if (j.contains("weights") && !j["weights"].is_null()) {
+      const ordered_json& list = j["weights"];
+      if (!list.is_array()) bad("weights must be an array of percentages, e.g. [-30, -20, -10, 0, 10, 20, 30]", "weights");
+      w.clear();
+      for (const auto& v : list) {
+        if (!v.is_number()) bad("weights must hold numbers (percent of body weight)", "weights");
+        w.push_back(v.get<double>());
+      }
+    }
+    r.weights = mirror_weights(w);
+  }
   r.noise = lower(string_field(j, "noise", "exact"));
   if (r.noise != "exact" && r.noise != "self" && r.noise != "other") bad("noise must be exact, self or other", "noise");
   if (j.contains("noise_sd") && !j["noise_sd"].is_null()) {
@@ -318,6 +372,22 @@ ApiResponse error_with_details(int status, const std::string& message, const std
 ApiResponse error_response(int status, const std::string& message, const std::string& field, const std::string& kind) {
   return error_with_details(status, message, field, kind, nullptr);
 }
+
+namespace {
+// Runs a handler; every error becomes the API's JSON error response (nothing escapes).
+template <class Handler>
+ApiResponse respond(Handler&& handler) {
+  try {
+    return handler();
+  } catch (const RequestError& e) {
+    return error_with_details(e.status, e.message, e.field, e.kind, e.details);
+  } catch (const Error& e) {
+    return error_response_for_library_error(e, "model_format", "model_io");
+  } catch (const std::exception& e) {
+    return error_response(500, std::string("internal error: ") + e.what(), {}, "internal");
+  }
+}
+}  // namespace
 
 // ---------------------------------------------------------------------------------------------
 
@@ -460,7 +530,7 @@ struct Api::Impl {
 
   ApiResponse avatar(const ApiRequest& req) const {
     const auto t0 = std::chrono::steady_clock::now();
-    const BodyRequest r = parse_body_request(req.body, options.default_model, true);
+    const BodyRequest r = parse_body_request(req.body, options.default_model, BodyEndpoint::Avatar);
     const Built b = build(r);
     ordered_json j;
     j["report"] = ordered_json::parse(avatar_report_json(b.entry->builder->model(), b.avatar, -1));
@@ -492,7 +562,7 @@ struct Api::Impl {
   }
 
   ApiResponse export_file(const ApiRequest& req, const std::string& kind) const {
-    const BodyRequest r = parse_body_request(req.body, options.default_model, false);
+    const BodyRequest r = parse_body_request(req.body, options.default_model, BodyEndpoint::Export);
     const Built b = build(r);
     const BodyModel& m = b.entry->builder->model();
     ApiResponse out;
@@ -509,6 +579,77 @@ struct Api::Impl {
       out.download_name = stem + "-report.json";
     }
     return out;
+  }
+
+  // The virtual mirror's bodies (docs/api.md "Mirror bodies"): the person as measured and with
+  // the weight changed, one topology and rig, plain JSON arrays for the WebXR page.
+  ApiResponse mirror_bodies(const BodyRequest& r) const {
+    const Built original = build(r);
+    const AvatarBuilder& builder = *original.entry->builder;
+    const BodyModel& model = builder.model();
+    const std::vector<Avatar> bodies = with_weight_changes(builder, original.avatar, r.weights);
+    auto flat = [](const auto& m, double step) {
+      std::vector<double> out(static_cast<size_t>(m.rows()) * 3);
+      for (Eigen::Index i = 0; i < m.rows(); ++i)
+        for (int c = 0; c < 3; ++c) out[size_t(i) * 3 + c] = round_to(m(i, c), step);
+      return out;
+    };
+    const auto size = measure_some(model, {"stature", "weight"}, original.avatar.rest_vertices);
+    ordered_json j;
+    j["model"] = r.model;
+    j["sex"] = to_string(r.sex);
+    j["stature_cm"] = round_to(size.at("stature") * 100, 0.1);
+    j["weight_kg"] = round_to(size.at("weight"), 0.1);
+    j["rest_pose"] = "T";
+    j["units"] = "metres, +Y up, facing +Z; weight in kg, BMI in kg/m²";
+    j["joint_names"] = model.data().joint_names;
+    j["parents"] = model.data().parents;
+    std::vector<int> faces(static_cast<size_t>(model.face_count()) * 3);
+    for (int f = 0; f < model.face_count(); ++f)
+      for (int c = 0; c < 3; ++c) faces[size_t(f) * 3 + c] = model.faces()(f, c);
+    j["faces"] = faces;
+    const SkinInfluences skin = skin_influences(model);
+    ordered_json skin_joints = ordered_json::array(), skin_weights = ordered_json::array();
+    for (Eigen::Index v = 0; v < skin.joints.rows(); ++v) {
+      skin_joints.push_back({skin.joints(v, 0), skin.joints(v, 1), skin.joints(v, 2), skin.joints(v, 3)});
+      skin_weights.push_back({skin.weights(v, 0), skin.weights(v, 1), skin.weights(v, 2), skin.weights(v, 3)});
+    }
+    j["skin"] = {{"joints", skin_joints}, {"weights", skin_weights}};
+    ordered_json list = ordered_json::array(), warnings = ordered_json::array();
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      const Avatar& b = bodies[i];
+      const auto m = measure_some(model, {"stature", "weight"}, b.rest_vertices);
+      list.push_back({{"weight_change_pct", r.weights[i]},
+                      {"weight_kg", round_to(m.at("weight"), 0.1)},
+                      {"bmi", round_to(m.at("weight") / (m.at("stature") * m.at("stature")), 0.1)},
+                      {"stature_cm", round_to(m.at("stature") * 100, 0.1)},
+                      {"vertices", flat(b.rest_vertices, 1e-4)},
+                      {"joints", flat(b.joints, 1e-4)}});
+      for (const auto& w : b.warnings) warnings.push_back(w);
+    }
+    j["bodies"] = list;
+    j["warnings"] = warnings;
+    return json_response(j);
+  }
+
+  ApiResponse mirror_body(const ApiRequest& req) const {
+    return mirror_bodies(parse_body_request(req.body, options.default_model, BodyEndpoint::Mirror));
+  }
+
+  // GET /api/sessions/{id}/mirror-body, after the capture API let the request read the session.
+  ApiResponse session_mirror_body(const MeasurementSetFile& set, const ApiRequest& req) const {
+    for (const auto& [key, value] : req.query)
+      if (key != "weights") bad("unknown query parameter '" + key + "' (expected weights)", key);
+    if (set.edge.empty()) bad("the session has measured nothing yet", "session", 409, "conflict");
+    if (!set.sex) bad("the session has no sex yet (the capture page asks for it at the end)", "sex", 409, "conflict");
+    BodyRequest r;
+    r.model = options.default_model;
+    r.sex = *set.sex;
+    r.edge = set.edge;
+    r.noise = set.measured_by.value_or("exact");  // who measured, as `caliper avatar --measurements` weighs it
+    auto w = req.query.find("weights");
+    r.weights = mirror_weights(w == req.query.end() ? default_mirror_weights() : parse_weight_list(w->second));
+    return mirror_bodies(r);
   }
 
   ApiResponse import_set(const ApiRequest& req) const {
@@ -560,11 +701,12 @@ struct Api::Impl {
     if (is("POST", "/api/export/obj")) return export_file(req, "obj");
     if (is("POST", "/api/export/report")) return export_file(req, "report");
     if (is("POST", "/api/measurement-set/import")) return import_set(req);
+    if (is("POST", "/api/mirror-body")) return mirror_body(req);
     if (is("POST", "/api/measurement-set/export")) return export_set(req);
     static const std::vector<Route> routes = {
         {"GET", "/api/health"}, {"GET", "/api/models"}, {"GET", "/api/measurements"}, {"GET", "/api/topology"},
         {"POST", "/api/avatar"}, {"POST", "/api/export/glb"}, {"POST", "/api/export/fbx"}, {"POST", "/api/export/vrm"}, {"POST", "/api/export/obj"}, {"POST", "/api/export/report"},
-        {"POST", "/api/measurement-set/import"}, {"POST", "/api/measurement-set/export"}};
+        {"POST", "/api/measurement-set/import"}, {"POST", "/api/measurement-set/export"}, {"POST", "/api/mirror-body"}};
     for (const auto& rt : routes)
       if (req.path == rt.path)
         bad(req.method + " is not allowed on " + req.path + " (use " + rt.method + ")", "method", 405, "method_not_allowed");
@@ -598,21 +740,17 @@ void require_known_model(const ApiOptions& options, const std::string& model) {
 
 Api::Api(ApiOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->options = std::move(options);
-  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{impl_->options.sessions_database, impl_->options.capture_profiles_file,
-                                                                   impl_->options.https, impl_->options.headset_hosts, {}});
+  Impl* impl = impl_.get();
+  impl_->capture = std::make_unique<CaptureApi>(CaptureApiOptions{
+      impl_->options.sessions_database, impl_->options.capture_profiles_file, impl_->options.https, impl_->options.headset_hosts, {},
+      [impl](const MeasurementSetFile& set, const ApiRequest& req) {
+        return respond([&] { return impl->session_mirror_body(set, req); });
+      }});
 }
 Api::~Api() = default;
 
 ApiResponse Api::handle(const ApiRequest& request) const {
-  try {
-    return impl_->route(request);
-  } catch (const RequestError& e) {
-    return error_with_details(e.status, e.message, e.field, e.kind, e.details);
-  } catch (const Error& e) {
-    return error_response_for_library_error(e, "model_format", "model_io");
-  } catch (const std::exception& e) {
-    return error_response(500, std::string("internal error: ") + e.what(), {}, "internal");
-  }
+  return respond([&] { return impl_->route(request); });
 }
 
 std::vector<std::string> Api::warm_up(const std::string& model, std::string* problems) const {

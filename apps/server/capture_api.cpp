@@ -14,6 +14,7 @@
 #include <utility>
 #include <nlohmann/json.hpp>
 
+#include "caliper/capture/body_image_task.h"
 #include "caliper/capture/measurement_set.h"
 #include "caliper/capture/service.h"
 #include "caliper/errors.h"
@@ -241,6 +242,43 @@ ordered_json session_stub_json(const Session& s) {
           {"state", to_string(s.protocol.state())}};
 }
 
+// ---- Body-image tasks (docs/api.md "Body-image tasks"; the library checks the values).
+
+ordered_json task_json(const BodyImageTask& t) { return ordered_json::parse(body_image_task_json(t)); }
+
+NewBodyImageTask parse_new_task(const ordered_json& j) {
+  only_fields(j, {"kind", "instruction", "start_weight_change_pct", "range_pct"});
+  NewBodyImageTask t;
+  t.kind = parse_task_kind(string_field(j, "kind", "adjust"));
+  t.instruction = string_field(j, "instruction", kHowILook);
+  if (j.contains("start_weight_change_pct"))
+    t.start_weight_change_pct = number_at(j["start_weight_change_pct"], "start_weight_change_pct", "start_weight_change_pct");
+  if (j.contains("range_pct")) {
+    const ordered_json& r = j["range_pct"];
+    if (!r.is_array() || r.size() != 2) refuse(400, "range_pct must be [min, max], percent of body weight", "range_pct");
+    t.range_min_pct = number_at(r[0], "range_pct", "range_pct[0]");
+    t.range_max_pct = number_at(r[1], "range_pct", "range_pct[1]");
+  }
+  return t;
+}
+
+BodyImageAnswer parse_answer(const ordered_json& j) {
+  only_fields(j, {"chosen_weight_change_pct", "shown_at_s", "answered_at_s", "adjustments"});
+  for (const char* key : {"chosen_weight_change_pct", "shown_at_s", "answered_at_s"})
+    if (!j.contains(key)) refuse(400, std::string(key) + " is required", key);
+  BodyImageAnswer a;
+  a.chosen_weight_change_pct = number_at(j["chosen_weight_change_pct"], "chosen_weight_change_pct", "chosen_weight_change_pct");
+  a.shown_at_s = number_at(j["shown_at_s"], "shown_at_s", "shown_at_s");
+  a.answered_at_s = number_at(j["answered_at_s"], "answered_at_s", "answered_at_s");
+  if (j.contains("adjustments") && !j["adjustments"].is_null()) {
+    const ordered_json& n = j["adjustments"];
+    if (!n.is_number_integer() || n.get<long long>() < 0 || n.get<long long>() > 1000000)
+      refuse(400, "adjustments must be a whole number in [0, 1000000]", "adjustments");
+    a.adjustments = static_cast<int>(n.get<long long>());
+  }
+  return a;
+}
+
 }  // namespace
 
 bool is_capture_path(const std::string& path) {
@@ -447,21 +485,92 @@ struct CaptureApi::Impl {
   ApiResponse export_set(const ApiRequest& req, const std::string& id) const {
     auto it = req.query.find("format");
     const std::string format = it == req.query.end() ? "json" : it->second;
-    if (format != "json" && format != "csv") refuse(400, "format must be json or csv", "format");
+    if (format != "json" && format != "csv" && format != "tasks-csv")
+      refuse(400, "format must be json, csv or tasks-csv", "format");
     exists(id);
     require_read_access(req, id);
     auto s = service().find(id);
-    if (!s) return not_found(id);
+    auto tasks = service().tasks(id);
+    if (!s || !tasks) return not_found(id);
     const MeasurementSetFile set = measurement_set_of(s->protocol);
     ApiResponse out;
     if (format == "csv") {
       out.content_type = "text/csv; charset=utf-8";
       out.body = write_measurement_set_csv(set);
+      out.download_name = "caliper-" + id + ".csv";
+    } else if (format == "tasks-csv") {
+      out.content_type = "text/csv; charset=utf-8";
+      out.body = write_body_image_tasks_csv(*tasks);
+      out.download_name = "caliper-" + id + "-tasks.csv";
     } else {
-      out.body = write_measurement_set_json(set);
+      out.body = write_session_json(set, *tasks);
+      out.download_name = "caliper-" + id + ".json";
     }
-    out.download_name = "caliper-" + id + "." + format;
     return out;
+  }
+
+  ApiResponse mirror_body(const ApiRequest& req, const std::string& id) const {
+    exists(id);
+    require_read_access(req, id);
+    auto s = service().find(id);
+    if (!s) return not_found(id);
+    if (!options.mirror_body) refuse(404, "this server builds no mirror bodies", "path", "not_found");
+    return options.mirror_body(measurement_set_of(s->protocol), req);
+  }
+
+  static ordered_json tasks_json(const std::vector<BodyImageTask>& tasks) {
+    ordered_json list = ordered_json::array();
+    ordered_json current = nullptr;
+    for (const auto& t : tasks) {
+      list.push_back(task_json(t));
+      if (t.state == TaskState::Running) current = list.back();
+    }
+    return {{"tasks", list}, {"current", current}};
+  }
+
+  // /api/sessions/{id}/body-image-tasks[/{task}/answer]: the experimenter starts tasks from the
+  // desktop, the headset (with the code) reads them and answers.
+  ApiResponse body_image_tasks(const ApiRequest& req, const std::string& id, const std::string& rest) const {
+    const std::string& m = req.method;
+    if (rest.empty()) {
+      if (m == "GET") {
+        exists(id);
+        require_read_access(req, id);
+        auto tasks = service().tasks(id);
+        if (!tasks) return not_found(id);
+        return json_response(tasks_json(*tasks));
+      }
+      if (m != "POST") refuse(405, m + " is not allowed on " + req.path + " (use GET or POST)", "method", "method_not_allowed");
+      exists(id);
+      if (!is_desktop(req))
+        refuse(403, "only the experimenter's desktop (a browser on the machine running caliper serve) may start a body-image task",
+               "session", "forbidden");
+      const NewBodyImageTask n = parse_new_task(parse_object(req.body, false));
+      auto t = service().start_task(id, n);
+      if (!t) return not_found(id);
+      return json_response({{"task", task_json(*t)}}, 201);
+    }
+    const size_t slash = rest.find('/');
+    const std::string task_id = rest.substr(0, slash);
+    if (slash == std::string::npos || rest.substr(slash + 1) != "answer" || task_id.empty())
+      refuse(404, "no such endpoint: " + req.path + " (see docs/api.md)", "path", "not_found");
+    if (m != "POST") refuse(405, m + " is not allowed on " + req.path + " (use POST)", "method", "method_not_allowed");
+    exists(id);
+    require_pairing(req, id, "answering a body-image task");
+    const BodyImageAnswer answer = parse_answer(parse_object(req.body, false));
+    const CaptureService::AnswerResult r = service().answer_task(id, task_id, answer);
+    using Status = CaptureService::AnswerStatus;
+    switch (r.status) {
+      case Status::Answered: return json_response({{"task", task_json(*r.task)}});
+      case Status::NoSession: return not_found(id);
+      case Status::NoTask: refuse(404, "session " + id + " has no body-image task '" + task_id + "'", "task_id", "not_found");
+      case Status::NotRunning:
+        refuse(409, "task " + task_id + " is " + to_string(r.task->state) + "; only the running task takes an answer", "task_id",
+               "conflict");
+      case Status::NotAdjustable:
+        refuse(409, "task " + task_id + " shows a body and takes no answer (only adjust tasks do)", "task_id", "conflict");
+    }
+    return not_found(id);
   }
 
   ApiResponse route(const ApiRequest& req) const {
@@ -515,6 +624,12 @@ struct CaptureApi::Impl {
       allow("GET");
       return export_set(req, id);
     }
+    if (action == "mirror-body") {
+      allow("GET");
+      return mirror_body(req, id);
+    }
+    if (action == "body-image-tasks" || action.rfind("body-image-tasks/", 0) == 0)
+      return body_image_tasks(req, id, action.size() > 17 ? action.substr(17) : "");
     if (action == "pairing") {
       allow("POST");
       return reissue(req, id);

@@ -3,12 +3,14 @@
 // api.h: requests in, responses out; no httplib here.
 #pragma once
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "api.h"
+#include "caliper/capture/measurement_set.h"
 
 namespace caliper::server {
 
@@ -31,6 +33,9 @@ struct CaptureApiOptions {
   bool https = false;                      // for the headset address: the scheme
   std::vector<std::string> headset_hosts;  // for the headset address; empty: the Host the client used
   SessionCreationBudget creation;
+  // GET /api/sessions/{id}/mirror-body: the bodies for the session's measurement set, once the
+  // request may read the session (api.cpp builds them; empty: 404).
+  std::function<ApiResponse(const MeasurementSetFile& set, const ApiRequest& request)> mirror_body;
 };
 
 // True for the paths CaptureApi serves.

@@ -19,5 +19,7 @@
 #include "caliper/export/fbx.h"
 #include "caliper/export/provenance.h"
 #include "caliper/export/rig.h"
+#include "caliper/export/skin.h"
 #include "caliper/avatar_report.h"
+#include "caliper/avatar_weight_change.h"
 #include "caliper/export/uv_atlas.h"

@@ -3,6 +3,7 @@
 #include "caliper/capture/service.h"
 
 #include <algorithm>
+#include <cmath>
 #include <ctime>
 
 #include "caliper/errors.h"
@@ -295,6 +296,68 @@ bool CaptureService::remove(const std::string& id) {
   std::lock_guard<std::mutex> lock(mutex_);
   forget(id);
   return store_->remove(id);
+}
+
+std::optional<BodyImageTask> CaptureService::start_task(const std::string& id, const NewBodyImageTask& n) {
+  check_new_task(n);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!live(id)) return std::nullopt;
+  BodyImageTask t;
+  t.id = "t-" + detail::random_hex_bytes(6);
+  t.kind = n.kind;
+  t.instruction = n.instruction;
+  t.start_weight_change_pct = n.start_weight_change_pct;
+  t.range_min_pct = n.range_min_pct;
+  t.range_max_pct = n.range_max_pct;
+  t.state = TaskState::Running;
+  t.created = now_iso();
+  store_->add_task(id, t);
+  return t;
+}
+
+std::optional<std::vector<BodyImageTask>> CaptureService::tasks(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!live(id)) return std::nullopt;
+  return store_->tasks(id);
+}
+
+CaptureService::AnswerResult CaptureService::answer_task(const std::string& id, const std::string& task_id, BodyImageAnswer answer) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  AnswerResult out;
+  Session* s = live(id);
+  if (!s) return out;
+  const auto find_task = [&]() -> std::optional<BodyImageTask> {
+    for (auto& t : store_->tasks(id))
+      if (t.id == task_id) return t;
+    return std::nullopt;
+  };
+  out.task = find_task();
+  if (!out.task) {
+    out.status = AnswerStatus::NoTask;
+    return out;
+  }
+  if (out.task->state != TaskState::Running) {
+    out.status = AnswerStatus::NotRunning;
+    return out;
+  }
+  if (out.task->kind != TaskKind::Adjust) {
+    out.status = AnswerStatus::NotAdjustable;
+    return out;
+  }
+  check_answer(*out.task, answer);
+  // What the chosen change means for the person as measured (the set is in cm and kg).
+  const std::map<std::string, double> values = s->protocol.measurement_set();
+  answer.chosen_weight_kg.reset();
+  answer.chosen_bmi.reset();
+  if (auto w = values.find("weight"); w != values.end()) {
+    answer.chosen_weight_kg = w->second * (1 + answer.chosen_weight_change_pct / 100);
+    if (auto h = values.find("stature"); h != values.end() && h->second > 0)
+      answer.chosen_bmi = *answer.chosen_weight_kg / std::pow(h->second / 100, 2);
+  }
+  answer.answered = now_iso();
+  out.status = store_->answer_task(id, task_id, answer) ? AnswerStatus::Answered : AnswerStatus::NotRunning;
+  out.task = find_task();
+  return out;
 }
 
 }  // namespace caliper::capture

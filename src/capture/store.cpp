@@ -19,7 +19,9 @@ constexpr int kApplicationId = 0x43616C69;  // "Cali"
 // 2 (issue 15): sessions.pairing_failures, wrong pairing codes since the code was issued;
 // pairing_hash holds a PBKDF2 verifier. Version 1 files are migrated when opened (their SHA-256
 // verifiers stay and are refused at pairing until the experimenter re-issues a code).
-constexpr int kSchemaVersion = 2;
+// 3: body_image_tasks, the virtual mirror's tasks and their answers (capture/body_image_task.h);
+// version 1 and 2 files gain the table when opened.
+constexpr int kSchemaVersion = 3;
 
 const char* kSchema = R"sql(
 CREATE TABLE sessions (
@@ -54,6 +56,30 @@ CREATE TABLE measurement_values (
   name TEXT NOT NULL,
   value REAL NOT NULL,
   PRIMARY KEY (session_id, name)
+);
+)sql";
+
+// Added in schema 3 (created with a new file, or by the upgrade of an older one).
+const char* kTasksSchema = R"sql(
+CREATE TABLE body_image_tasks (
+  session_id TEXT NOT NULL REFERENCES sessions(id) ON DELETE CASCADE,
+  id TEXT NOT NULL,
+  seq INTEGER NOT NULL,
+  kind TEXT NOT NULL,
+  instruction TEXT NOT NULL,
+  start_weight_change_pct REAL NOT NULL,
+  range_min_pct REAL NOT NULL,
+  range_max_pct REAL NOT NULL,
+  state TEXT NOT NULL,
+  created TEXT NOT NULL,
+  chosen_weight_change_pct REAL,
+  chosen_weight_kg REAL,
+  chosen_bmi REAL,
+  shown_at_s REAL,
+  answered_at_s REAL,
+  adjustments INTEGER,
+  answered TEXT,
+  PRIMARY KEY (session_id, id)
 );
 )sql";
 
@@ -199,24 +225,28 @@ SessionStore::SessionStore(const std::string& path) : impl_(std::make_unique<Imp
       if (verdict != "ok")
         throw Error(ErrorKind::Format, "sessions database '" + path + "' is corrupt (" + verdict + "); it was left untouched", "database");
       const long long version = s.pragma_int("PRAGMA user_version");
-      if (version != kSchemaVersion && version != 1)
+      if (version < 1 || version > kSchemaVersion)
         throw Error(ErrorKind::Format,
-                    "sessions database '" + path + "' has schema version " + std::to_string(version) + "; this Caliper reads version " +
+                    "sessions database '" + path + "' has schema version " + std::to_string(version) + "; this Caliper reads versions 1 to " +
                         std::to_string(kSchemaVersion),
                     "database");
     }
     s.exec("PRAGMA journal_mode = WAL");
     s.exec("PRAGMA synchronous = FULL");  // a committed event survives a power cut, not only a kill
     s.exec("PRAGMA foreign_keys = ON");
-    if (app_id == kApplicationId && s.pragma_int("PRAGMA user_version") == 1) {
+    if (app_id == kApplicationId && s.pragma_int("PRAGMA user_version") < kSchemaVersion) {
+      // One transaction from whatever version the file has to the current one.
       s.transaction([&] {
-        s.exec("ALTER TABLE sessions ADD COLUMN pairing_failures INTEGER NOT NULL DEFAULT 0");
+        const long long from = s.pragma_int("PRAGMA user_version");
+        if (from < 2) s.exec("ALTER TABLE sessions ADD COLUMN pairing_failures INTEGER NOT NULL DEFAULT 0");
+        if (from < 3) s.exec(kTasksSchema);
         s.exec(("PRAGMA user_version = " + std::to_string(kSchemaVersion)).c_str());
       });
     }
     if (app_id == 0) {
       s.transaction([&] {
         s.exec(kSchema);
+        s.exec(kTasksSchema);
         s.exec(("PRAGMA application_id = " + std::to_string(kApplicationId)).c_str());
         s.exec(("PRAGMA user_version = " + std::to_string(kSchemaVersion)).c_str());
       });
@@ -405,10 +435,83 @@ bool SessionStore::remove(const std::string& id) {
   s.transaction([&] {
     Stmt(s.db, "DELETE FROM points WHERE session_id = ?1").bind(1, id).step();
     Stmt(s.db, "DELETE FROM measurement_values WHERE session_id = ?1").bind(1, id).step();
+    Stmt(s.db, "DELETE FROM body_image_tasks WHERE session_id = ?1").bind(1, id).step();
     Stmt(s.db, "DELETE FROM sessions WHERE id = ?1").bind(1, id).step();
     removed = sqlite3_changes(s.db) > 0;
   });
   return removed;
+}
+
+void SessionStore::add_task(const std::string& session_id, const BodyImageTask& t) {
+  Impl& s = *impl_;
+  s.transaction([&] {
+    Stmt(s.db, "UPDATE body_image_tasks SET state = 'abandoned' WHERE session_id = ?1 AND state = 'running'").bind(1, session_id).step();
+    Stmt q(s.db,
+           "INSERT INTO body_image_tasks (session_id, id, seq, kind, instruction, start_weight_change_pct, range_min_pct, "
+           "range_max_pct, state, created) VALUES (?1, ?2, (SELECT coalesce(max(seq), 0) + 1 FROM body_image_tasks WHERE "
+           "session_id = ?1), ?3, ?4, ?5, ?6, ?7, ?8, ?9)");
+    q.bind(1, session_id).bind(2, t.id).bind(3, to_string(t.kind)).bind(4, t.instruction).bind(5, t.start_weight_change_pct);
+    q.bind(6, t.range_min_pct).bind(7, t.range_max_pct).bind(8, to_string(t.state)).bind(9, t.created);
+    q.step();
+  });
+}
+
+std::vector<BodyImageTask> SessionStore::tasks(const std::string& session_id) const {
+  Stmt q(impl_->db,
+         "SELECT id, kind, instruction, start_weight_change_pct, range_min_pct, range_max_pct, state, created, "
+         "chosen_weight_change_pct, chosen_weight_kg, chosen_bmi, shown_at_s, answered_at_s, adjustments, answered "
+         "FROM body_image_tasks WHERE session_id = ?1 ORDER BY seq");
+  q.bind(1, session_id);
+  std::vector<BodyImageTask> out;
+  while (q.step()) {
+    BodyImageTask t;
+    t.id = q.text(0);
+    try {
+      t.kind = parse_task_kind(q.text(1));
+      t.state = parse_task_state(q.text(6));
+    } catch (const Error& e) {
+      throw Error(ErrorKind::Format, "sessions database: a body-image task of session " + session_id + " is damaged: " + e.what(),
+                  "database");
+    }
+    t.instruction = q.text(2);
+    t.start_weight_change_pct = q.real(3);
+    t.range_min_pct = q.real(4);
+    t.range_max_pct = q.real(5);
+    t.created = q.text(7);
+    if (!q.null(14)) {
+      BodyImageAnswer a;
+      a.chosen_weight_change_pct = q.real(8);
+      if (!q.null(9)) a.chosen_weight_kg = q.real(9);
+      if (!q.null(10)) a.chosen_bmi = q.real(10);
+      a.shown_at_s = q.real(11);
+      a.answered_at_s = q.real(12);
+      a.adjustments = static_cast<int>(q.integer(13));
+      a.answered = q.text(14);
+      t.answer = a;
+    }
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+bool SessionStore::answer_task(const std::string& session_id, const std::string& task_id, const BodyImageAnswer& a) {
+  Impl& s = *impl_;
+  bool answered = false;
+  s.transaction([&] {
+    Stmt q(s.db,
+           "UPDATE body_image_tasks SET state = 'answered', chosen_weight_change_pct = ?3, chosen_weight_kg = ?4, chosen_bmi = ?5, "
+           "shown_at_s = ?6, answered_at_s = ?7, adjustments = ?8, answered = ?9 "
+           "WHERE session_id = ?1 AND id = ?2 AND state = 'running'");
+    q.bind(1, session_id).bind(2, task_id).bind(3, a.chosen_weight_change_pct);
+    if (a.chosen_weight_kg) q.bind(4, *a.chosen_weight_kg);
+    else q.bind_null(4);
+    if (a.chosen_bmi) q.bind(5, *a.chosen_bmi);
+    else q.bind_null(5);
+    q.bind(6, a.shown_at_s).bind(7, a.answered_at_s).bind_int(8, a.adjustments).bind(9, a.answered);
+    q.step();
+    answered = sqlite3_changes(s.db) == 1;
+  });
+  return answered;
 }
 
 }  // namespace caliper::capture

@@ -85,7 +85,7 @@ void expect_refused(const ApiResponse& r, const std::string& why) {
 
 TEST(SessionCreationBudget, PerDeviceInAllAndNeverTheDesktop) {
   test::TempDir dir;
-  CaptureApiOptions o{dir / "s.db", {}, false, {}, {}};
+  CaptureApiOptions o{dir / "s.db", {}, false, {}, {}, {}};
   o.creation.per_device = 2;
   o.creation.by_devices = 5;
   const CaptureApi api(o);

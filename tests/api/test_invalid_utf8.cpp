@@ -71,7 +71,7 @@ TEST(InvalidUtf8, EveryPostEndpointOfBothApisAnswers400AndNeverThrows) {
   const std::vector<std::string> desktop = {"/api/avatar", "/api/export/glb", "/api/export/obj", "/api/export/report",
                                             "/api/measurement-set/import", "/api/measurement-set/export"};
   const std::vector<std::string> capture = {"/api/sessions", s + "/samples", s + "/undo", s + "/redo", s + "/entries"};
-  const CaptureApi capture_api(CaptureApiOptions{dir / "sessions.db", {}, false, {}, {}});
+  const CaptureApi capture_api(CaptureApiOptions{dir / "sessions.db", {}, false, {}, {}, {}});
   for (const auto& body : bad_bodies()) {
     for (const auto& path : desktop) {
       ApiResponse r;

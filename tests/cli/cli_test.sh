@@ -185,6 +185,19 @@ expect 0 "report is JSON with the documented fields" node -e '
     r.measurements.chest_circumference && !("requested_cm" in r.measurements.chest_circumference);
   process.exit(ok ? 0 : 1);' "$TMP/r.json"
 expect 0 "glb passes the Khronos validator" node "$SRC/tools/validate-gltf.mjs" "$TMP/a.glb"
+# The same person 10 % heavier at the same stature (the virtual mirror's bodies): the report's
+# body reaches 66 kg (10 % of the 60 kg one) at 165 cm; out-of-range changes name the option.
+expect 0 "avatar --weight-change" "$CALIPER" avatar --sex female --height 165 --weight 60 --arm-span 168 --inseam 77 \
+  --hip-width 36 --weight-change 10 -o "$TMP/heavier.glb" --report "$TMP/heavier.json" -q
+expect 0 "the heavier body keeps the stature and gains the weight" node -e '
+  const m = JSON.parse(require("fs").readFileSync(process.argv[1])).measurements;
+  process.exit(Math.abs(m.stature.achieved_cm - 165) < 0.3 && Math.abs(m.weight.achieved_kg - 66) < 1.5 &&
+    Math.abs(m.span.achieved_cm - 168) < 1 && !("requested_cm" in m.hip_breadth) ? 0 : 1);' "$TMP/heavier.json"
+expect 3 "a weight change out of range" "$CALIPER" avatar --height 165 --weight 60 --weight-change 120 -o "$TMP/x.obj"
+says "--weight-change = 120 % is outside the accepted range [-50, 100] %" "names the option and the range"
+expect 3 "a weight change that is not a number" "$CALIPER" avatar --height 165 --weight 60 --weight-change nan -o "$TMP/x.obj"
+expect 3 "a weight change with --beta" "$CALIPER" avatar --beta 0 --weight-change 10 -o "$TMP/x.obj"
+says "needs measurements" "says why"
 expect 0 "glb has texture coordinates" grep -qa TEXCOORD_0 "$TMP/a.glb"
 expect 0 "obj export" "$CALIPER" avatar --sex male --height 180 --weight 85 -o "$TMP/a.obj" -q
 expect 0 "measure the exported OBJ" "$CALIPER" measure --mesh "$TMP/a.obj" --sex male --json
@@ -315,6 +328,12 @@ if (cmd === 'create') {
 } else if (cmd === 'entries') {
   const r = await post(`/sessions/${id}/entries`, {weight_kg: 61.5}, code);
   console.log(`${r.status}`);
+} else if (cmd === 'task') {
+  // The experimenter (this machine) starts an adjust task; the headset answers it with the code.
+  const t = await (await post(`/sessions/${id}/body-image-tasks`, {kind: 'adjust', instruction: 'how_i_look'})).json();
+  const r = await post(`/sessions/${id}/body-image-tasks/${t.task.id}/answer`,
+    {chosen_weight_change_pct: 10, shown_at_s: 1, answered_at_s: 5, adjustments: 4}, code);
+  console.log(`${r.status} ${(await r.json()).task.state}`);
 } else if (cmd === 'nocode') {
   const r = await post(`/sessions/${id}/undo`, {}, '');
   console.log(`${r.status}`);
@@ -348,6 +367,8 @@ says "200 2" "two more points"
 expect 0 "the floor is calibrated" node "$TMP/cap.mjs" "$PORT" get "$SID"
 says "measuring 0 0.01" "floor at 1 cm, measuring"
 expect 0 "enter the weight" node "$TMP/cap.mjs" "$PORT" entries "$SID" "$CODE"
+expect 0 "a body-image task answered" node "$TMP/cap.mjs" "$PORT" task "$SID" "$CODE"
+says "200 answered" "and stored"
 # One estimator behind every path (issue 14): a self-measured set gives the same body from the
 # CLI, from the capture page's request, and from the desktop tool (which imports the set and
 # sends the noise its measured_by names).
@@ -380,11 +401,16 @@ expect 0 "sessions help" "$CALIPER" sessions --help
 expect 0 "sessions list" "$CALIPER" sessions --data "$CAP" list
 says "$SID" "the session is listed"
 says "measuring" "with its state"
+says " 1/1 " "and its answered body-image task"
 expect 0 "sessions export csv" "$CALIPER" sessions --data "$CAP" export "$SID" -o "$TMP/me.csv"
 expect 0 "the export has the weight" grep -qx "weight,61.5,kg" "$TMP/me.csv"
 expect 0 "sessions export json to stdout" "$CALIPER" sessions --data "$CAP" export "$SID"
 says '"format": "caliper-measurements"' "the JSON measurement-set format"
 says '"measured_by": "self"' "a capture export says who measured"
+says '"body_image_tasks"' "and carries the body-image tasks"
+expect 0 "sessions export tasks-csv" "$CALIPER" sessions --data "$CAP" export "$SID" --format tasks-csv
+says ",adjust,how_i_look,0,-30,30,answered," "the answered task"
+says ",10,67.65," "its chosen change and the weight it means (61.5 kg + 10 %)"
 printf 'measurement,value,unit\nsex,male,\nstature,1800,mm\nweight,82,kg\n' >"$TMP/set.csv"
 expect 0 "avatar from a measurement set" "$CALIPER" avatar --measurements "$TMP/set.csv" -o "$TMP/set.obj"
 says "mannequin-male" "the file's sex is used"

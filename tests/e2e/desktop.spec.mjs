@@ -480,12 +480,15 @@ try {
 
   // Every control has an accessible name (what a screen reader announces).
   const cdp = await context.newCDPSession(page);
-  const { nodes } = await cdp.send('Accessibility.getFullAXTree');
-  const controls = new Set(['button', 'checkbox', 'combobox', 'slider', 'textbox', 'spinbutton', 'radio', 'link', 'menulistpopup']);
-  const unnamed = nodes.filter((x) => !x.ignored && controls.has(x.role?.value) && !(x.name?.value ?? '').trim());
-  const named = nodes.filter((x) => !x.ignored && controls.has(x.role?.value)).length;
-  check(named > 20 && unnamed.length === 0, 'every control has an accessible name',
-    `${named} controls; unnamed: ${unnamed.map((x) => x.role.value).join(', ')}`);
+  const accessibleNames = async () => {
+    const { nodes } = await cdp.send('Accessibility.getFullAXTree');
+    const controls = new Set(['button', 'checkbox', 'combobox', 'slider', 'textbox', 'spinbutton', 'radio', 'link', 'menulistpopup']);
+    const unnamed = nodes.filter((x) => !x.ignored && controls.has(x.role?.value) && !(x.name?.value ?? '').trim());
+    return { named: nodes.filter((x) => !x.ignored && controls.has(x.role?.value)).length, unnamed: unnamed.map((x) => x.role.value) };
+  };
+  const names = await accessibleNames();
+  check(names.named > 20 && names.unnamed.length === 0, 'every control has an accessible name',
+    `${names.named} controls; unnamed: ${names.unnamed.join(', ')}`);
 
   // Values are kept across a reload.
   const beforeReload = await sent();
@@ -493,6 +496,82 @@ try {
   await settle(1);
   check(JSON.stringify(await sent()) === JSON.stringify(beforeReload) && await page.inputValue('#participant') === 'P017 a/b',
     'a reload keeps the given values and the participant', JSON.stringify(await sent()));
+
+  // The experimenter's body-image task panel (docs/mirror-tasks.md), with a capture session
+  // open: shown only then, driven by the keyboard, answers from the headset appear as they
+  // arrive, a refused task is explained, the tasks export, and it fits a phone.
+  const post = async (path, body, code) => {
+    const r = await fetch(base + path, { method: 'POST', body: JSON.stringify(body),
+      headers: { 'Content-Type': 'application/json', ...(code ? { 'X-Caliper-Pairing': code } : {}) } });
+    return { status: r.status, json: await r.json() };
+  };
+  check(await page.locator('#task-card').isHidden(), 'no body-image task panel without a session');
+  const made = await post('/api/sessions', { sex: 'female', weight_kg: 62 });
+  const sid = made.json.session.id, scode = made.json.pairing_code;
+  await page.goto(`${base}/?session=${sid}`);
+  await settle(1);
+  await page.locator('#task-card').waitFor({ state: 'visible', timeout: 10000 });
+  check(/No task yet/.test(await page.locator('#task-status').innerText()), 'the panel opens with the session', await page.locator('#task-status').innerText());
+  let tabbed = 0;
+  while (tabbed < 150 && await page.evaluate(() => document.activeElement?.id) !== 'task-show-pct') { await page.keyboard.press('Tab'); tabbed += 1; }
+  check(tabbed < 150, 'the task panel is reached with the keyboard', `${tabbed} tabs`);
+  await page.keyboard.press('Control+a');
+  await page.keyboard.type('-10');
+  await page.keyboard.press('Enter');
+  const taskRows = page.locator('#task-table tbody tr');
+  await page.waitForFunction(() => window.caliper.viewer.ghost && document.querySelectorAll('#task-table tbody tr').length === 1, null, { timeout: 60000 });
+  check(/show/.test(await taskRows.nth(0).innerText()) && /running/.test(await taskRows.nth(0).innerText()), 'Show starts a show task',
+    await taskRows.nth(0).innerText());
+  check(/mirror body at −10 %/.test(await page.locator('#compare-label').innerText()) && await page.inputValue('#compare-mode') === 'side',
+    'and the desktop shows the mirror body beside the avatar', await page.locator('#compare-label').innerText());
+  if (screenshots) {
+    await page.waitForTimeout(300);
+    await page.screenshot({ path: join(screenshots, 'desktop-tool-mirror-body.png') });
+  }
+  await page.selectOption('#task-instruction', 'other');
+  check(await page.locator('#task-free').isVisible() && await page.evaluate(() => document.activeElement?.id) === 'task-free',
+    'another instruction opens its text field, focused');
+  await page.keyboard.type('Wie sehe ich aus?');
+  await page.fill('#task-start', '40');
+  await page.press('#task-start', 'Enter');
+  await page.locator('#task-error').waitFor({ state: 'visible', timeout: 10000 });
+  check(/start_weight_change_pct = 40 % is outside range_pct \[-30, 30\]/.test(await page.locator('#task-error').innerText()),
+    'a start outside the range is refused and explained', await page.locator('#task-error').innerText());
+  await page.fill('#task-start', '20');
+  await page.press('#task-start', 'Enter');
+  await page.waitForFunction(() => document.querySelectorAll('#task-table tbody tr').length === 2, null, { timeout: 10000 });
+  check(/Wie sehe ich aus\?/.test(await taskRows.nth(0).innerText()) && /abandoned/.test(await taskRows.nth(1).innerText()),
+    'an adjust task starts and the show task is abandoned', `${await taskRows.nth(0).innerText()} | ${await taskRows.nth(1).innerText()}`);
+  const tasksNow = await (await fetch(`${base}/api/sessions/${sid}/body-image-tasks`)).json();
+  const answered = await post(`/api/sessions/${sid}/body-image-tasks/${tasksNow.current.id}/answer`,
+    { chosen_weight_change_pct: 7.5, shown_at_s: 3, answered_at_s: 21.5, adjustments: 9 }, scode);
+  check(answered.status === 200, 'the headset answers with the code', JSON.stringify(answered.json));
+  await page.waitForFunction(() => /answered/.test(document.querySelector('#task-table tbody tr')?.innerText ?? ''), null, { timeout: 10000 });
+  const answerRow = await taskRows.nth(0).innerText();
+  check(/\+7\.5 %/.test(answerRow) && /66\.\d kg/.test(answerRow) && /18\.5 s/.test(answerRow),
+    'the answer appears in the panel: the change chosen, the weight it means, the time taken', answerRow);
+  check(/No task running/.test(await page.locator('#task-status').innerText()), 'and no task is running');
+  const [taskCsv] = await Promise.all([page.waitForEvent('download'), page.click('#task-export-csv')]);
+  const taskCsvPath = join(tmp, taskCsv.suggestedFilename());
+  await taskCsv.saveAs(taskCsvPath);
+  const taskLines = readFileSync(taskCsvPath, 'utf8').trim().split('\n');
+  check(taskCsv.suggestedFilename() === `${sid}-body-image-tasks.csv` && taskLines.length === 3 && /,adjust,Wie sehe ich aus\?,20,-30,30,answered,.*,7\.5,/.test(taskLines[2]),
+    'the tasks export as CSV', `${taskCsv.suggestedFilename()}\n${taskLines.join('\n')}`);
+  const namesWithPanel = await accessibleNames();
+  check(namesWithPanel.unnamed.length === 0 && namesWithPanel.named > names.named, 'the panel\'s controls have accessible names too',
+    `${namesWithPanel.named} controls; unnamed: ${namesWithPanel.unnamed.join(', ')}`);
+  if (screenshots) await page.locator('#task-card').screenshot({ path: join(screenshots, 'desktop-tool-body-image-task.png') });
+  await page.setViewportSize({ width: 375, height: 812 });
+  await page.waitForTimeout(400);
+  await page.locator('#task-export-json').scrollIntoViewIfNeeded();
+  const phone = await page.evaluate(() => ({
+    overflowX: document.documentElement.scrollWidth - window.innerWidth,
+    card: document.getElementById('task-card').getBoundingClientRect().right,
+    inputs: Math.min(...[...document.querySelectorAll('#task-card input[type=number]')].map((e) => e.getBoundingClientRect().width)),
+  }));
+  check(phone.overflowX <= 0 && phone.card <= 375 && phone.inputs >= 60, 'the task panel fits a phone', JSON.stringify(phone));
+  if (screenshots) await page.locator('#task-card').screenshot({ path: join(screenshots, 'desktop-tool-body-image-task-375.png') });
+  await page.setViewportSize({ width: 1440, height: 900 });
 
   // A wrong session link stays an error: no avatar is built, nothing passes for the participant.
   await page.goto(`${base}/?session=no-such-session`);

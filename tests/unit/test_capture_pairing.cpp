@@ -194,7 +194,7 @@ TEST(CapturePairing, ConcurrentGuessesCannotOvershootTheBudget) {
 }
 
 // A sessions.db written before issue 15: schema version 1 (no failure count) and the verifier
-// "salt$SHA-256(salt + code)". It opens (migrated to version 2), its points are kept, and its
+// "salt$SHA-256(salt + code)". It opens (migrated to the current version), its points are kept, and its
 // code is refused as outdated — even the right one, which the old scheme would accept — without
 // counting, until a new code is issued.
 TEST(CapturePairing, AnOldSha256VerifierIsRefusedNotAcceptedUntilANewCodeIsIssued) {
@@ -214,6 +214,7 @@ TEST(CapturePairing, AnOldSha256VerifierIsRefusedNotAcceptedUntilANewCodeIsIssue
     sqlite3* h = nullptr;
     ASSERT_EQ(sqlite3_open(db.c_str(), &h), SQLITE_OK);
     exec(h, "ALTER TABLE sessions DROP COLUMN pairing_failures");
+    exec(h, "DROP TABLE body_image_tasks");  // schema 3's
     exec(h, "UPDATE sessions SET pairing_hash = '" + salt + "$" + sha256_hex(salt + code) + "'");
     exec(h, "PRAGMA user_version = 1");
     sqlite3_close(h);

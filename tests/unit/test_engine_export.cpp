@@ -314,8 +314,11 @@ TEST(HumanoidNames, TheDocumentedTableMatchesTheCode) {
     EXPECT_EQ(unquote(cells[2]), b->vrm) << line;
     documented.insert(smpl);
   }
-  for (const auto& name : rig_joint_names())
-    if (name.rfind("right_", 0) != 0) EXPECT_TRUE(documented.count(name)) << name << " is not in docs/engines.md";
+  for (const auto& name : rig_joint_names()) {
+    if (name.rfind("right_", 0) != 0) {
+      EXPECT_TRUE(documented.count(name)) << name << " is not in docs/engines.md";
+    }
+  }
 }
 
 // ---- Unity and Unreal: their documented import requirements, on a built avatar's FBX ----------

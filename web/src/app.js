@@ -1010,6 +1010,129 @@ function applySet(set) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Body-image tasks (docs/mirror-tasks.md): with a capture session open, the experimenter shows
+// the participant's mirror body with its weight changed, or starts an adjust task, and sees the
+// answers as the headset sends them (polled every 2 s). The server takes task starts from the
+// desktop only; reads and exports carry the session's code when this tab has one.
+
+const INSTRUCTION_WORDS = { how_i_look: 'how I look', how_i_would_like_to_look: 'how I would like to look' };
+const TASK_POLL_MS = 2000;
+const taskPanel = { id: null, code: null, timer: null, tasks: null, polls: 0 };
+state.taskPanel = taskPanel;  // for the end-to-end test
+
+const sessionHeaders = () => (taskPanel.code ? { 'X-Caliper-Pairing': taskPanel.code } : {});
+const sessionPath = (rest) => `/api/sessions/${encodeURIComponent(taskPanel.id)}/${rest}`;
+const signedPct = (v) => `${v > 0 ? '+' : v < 0 ? '−' : '±'}${Math.abs(v)} %`;
+const taskWords = (t) => (t.kind === 'show' ? 'show' : `adjust to “${INSTRUCTION_WORDS[t.instruction] ?? t.instruction}”`);
+
+function openTaskPanel(id, code) {
+  taskPanel.id = id;
+  taskPanel.code = code;
+  $('task-card').hidden = false;
+  pollTasks();
+  clearInterval(taskPanel.timer);
+  taskPanel.timer = setInterval(() => { if (!document.hidden) pollTasks(); }, TASK_POLL_MS);
+}
+
+async function pollTasks() {
+  try {
+    const r = await api(sessionPath('body-image-tasks'), { headers: sessionHeaders() });
+    taskPanel.polls += 1;
+    renderTasks(r.tasks, r.current);
+  } catch (e) {
+    showTaskError(e);
+  }
+}
+
+// The table, newest first, redrawn only when a task changed (focus and selection stay put).
+function renderTasks(tasks, current) {
+  if (JSON.stringify(tasks) === JSON.stringify(taskPanel.tasks)) return;
+  taskPanel.tasks = tasks;
+  const rowsOut = tasks.slice().reverse().map((t) => {
+    const tr = document.createElement('tr');
+    tr.className = t.state;
+    tr.dataset.task = t.id;
+    const a = t.answer;
+    const chosen = !a ? '—' : `${signedPct(a.chosen_weight_change_pct)}${a.chosen_weight_kg == null ? '' : ` · ${a.chosen_weight_kg.toFixed(1)} kg`}` +
+      ` · ${(a.answered_at_s - a.shown_at_s).toFixed(1)} s`;
+    for (const text of [t.created.slice(11, 19), taskWords(t), signedPct(t.start_weight_change_pct), chosen, t.state]) {
+      const td = document.createElement('td');
+      td.textContent = text;
+      tr.appendChild(td);
+    }
+    return tr;
+  });
+  $('task-table').tBodies[0].replaceChildren(...rowsOut);
+  $('task-status').textContent = current
+    ? `Running: ${taskWords(current)}, starting at ${signedPct(current.start_weight_change_pct)}` +
+      (current.kind === 'adjust' ? `, range ${signedPct(current.range_pct[0])} to ${signedPct(current.range_pct[1])}.` : '.')
+    : tasks.length ? 'No task running.' : 'No task yet.';
+}
+
+function showTaskError(e) {
+  const box = $('task-error');
+  box.textContent = withRange(e);
+  box.hidden = false;
+}
+
+async function startTask(task) {
+  $('task-error').hidden = true;
+  try {
+    await api(sessionPath('body-image-tasks'), { method: 'POST', body: task, headers: sessionHeaders() });
+    await pollTasks();
+    return true;
+  } catch (e) {
+    showTaskError(e);
+    return false;
+  }
+}
+
+// The body the participant is shown, drawn here as the comparison body (the mirror's T pose).
+async function previewMirrorBody(pct) {
+  try {
+    const r = await api(sessionPath(`mirror-body?weights=${pct}`), { headers: sessionHeaders() });
+    const body = r.bodies.find((b) => b.weight_change_pct === pct);
+    $('compare-mode').value = 'side';  // a thinner body would hide inside hers when overlaid
+    showComparison({ positions: new Float32Array(body.vertices), faces: new Uint32Array(r.faces),
+      label: `the mirror body at ${signedPct(pct)}, ${body.weight_kg.toFixed(1)} kg, BMI ${body.bmi.toFixed(1)}` }, 'T');
+  } catch (e) {
+    showTaskError(e);
+  }
+}
+
+$('task-show-form').addEventListener('submit', async (e) => {
+  e.preventDefault();
+  const pct = Number($('task-show-pct').value);
+  if (await startTask({ kind: 'show', instruction: 'how_i_look', start_weight_change_pct: pct, range_pct: [-50, 100] }))
+    await previewMirrorBody(pct);
+});
+$('task-instruction').addEventListener('change', (e) => {
+  $('task-free-row').hidden = e.target.value !== 'other';
+  if (e.target.value === 'other') $('task-free').focus();
+});
+$('task-adjust-form').addEventListener('submit', (e) => {
+  e.preventDefault();
+  const choice = $('task-instruction').value;
+  startTask({
+    kind: 'adjust',
+    instruction: choice === 'other' ? $('task-free').value.trim() : choice,
+    start_weight_change_pct: Number($('task-start').value),
+    range_pct: [Number($('task-min').value), Number($('task-max').value)],
+  });
+});
+
+async function downloadSessionFile(format, name) {
+  try {
+    const res = await api(sessionPath(`export?format=${format}`), { raw: true, headers: sessionHeaders() });
+    saveBlob(await res.blob(), name);
+  } catch (e) {
+    showTaskError(e);
+  }
+}
+$('task-export-csv').addEventListener('click', () => downloadSessionFile('tasks-csv', 'body-image-tasks.csv'));
+$('task-export-json').addEventListener('click', () => downloadSessionFile('json', 'session.json'));
+
+// ---------------------------------------------------------------------------------------------
 // Start
 
 async function start() {
@@ -1062,10 +1185,16 @@ function wireControls() {
 function keepForComparison() {
   if (!state.lastPositions) return;
   const given = [...state.given].map((n) => `${friendly(n)} ${shown(n, state.values[n])} ${displayUnit(n).unit}`).join(', ');
-  state.compare = { positions: state.lastPositions, faces: state.lastFaces, label: `${state.sex}, ${given || 'average'}` };
-  viewer.setGhost(state.compare.positions, state.compare.faces);
+  showComparison({ positions: state.lastPositions, faces: state.lastFaces, label: `${state.sex}, ${given || 'average'}` },
+    state.pose === 't' ? 'T' : state.pose);
+}
+
+// Draws `compare` (positions, faces, label) as the second body; `pose` names the pose it stands in.
+function showComparison(compare, pose) {
+  state.compare = compare;
+  viewer.setGhost(compare.positions, compare.faces);
   viewer.setCompareMode($('compare-mode').value);
-  $('compare-label').textContent = `Kept: ${state.compare.label} (${state.pose === 't' ? 'T' : state.pose} pose)`;
+  $('compare-label').textContent = `Kept: ${compare.label} (${pose} pose)`;
   $('compare-mode').disabled = false;
   $('compare-clear').disabled = false;
 }
@@ -1110,6 +1239,7 @@ async function openSession(id) {
     setParticipant(id);
     applySet(set);
     undoStack.length = 0;  // the session's values are where this page starts
+    openTaskPanel(id, code);
   } catch (e) {
     sessionFailed(id, e);
   }

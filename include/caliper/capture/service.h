@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "caliper/capture/body_image_task.h"
 #include "caliper/capture/profiles.h"
 #include "caliper/capture/protocol.h"
 #include "caliper/capture/store.h"
@@ -108,6 +109,20 @@ class CaptureService {
   std::optional<Session> redo(const std::string& id, bool* changed = nullptr);
   std::optional<Session> set_entries(const std::string& id, std::optional<double> weight_kg, std::optional<Sex> sex);
   bool remove(const std::string& id);
+
+  // Body-image tasks (body_image_task.h), stored with the session. nullopt: no such session.
+  // start_task checks the task (Error naming the field) and abandons the running one.
+  std::optional<BodyImageTask> start_task(const std::string& id, const NewBodyImageTask& task);
+  std::optional<std::vector<BodyImageTask>> tasks(const std::string& id);
+  enum class AnswerStatus { Answered, NoSession, NoTask, NotRunning, NotAdjustable };
+  struct AnswerResult {
+    AnswerStatus status = AnswerStatus::NoSession;
+    std::optional<BodyImageTask> task;  // as stored after the call (absent for NoSession, NoTask)
+  };
+  // Answers a running adjust task: checks the answer (Error naming the field), adds the chosen
+  // weight and BMI from the session's values and the server time, and returns only after the
+  // answer is committed. A show task takes no answer (NotAdjustable).
+  AnswerResult answer_task(const std::string& id, const std::string& task_id, BodyImageAnswer answer);
 
   const ProfileRegistry& profiles() const { return options_.profiles; }
   const std::string& database_path() const;

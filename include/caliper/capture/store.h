@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "caliper/capture/body_image_task.h"
 #include "caliper/capture/protocol.h"
 
 namespace caliper::capture {
@@ -44,8 +45,9 @@ class SessionStore {
  public:
   // Opens `path`, creating it (and its folder) when absent. Throws Error(Format) naming the path
   // when the file is not SQLite, is corrupt, or is another application's database (it is never
-  // modified then), and Error(Io) when it cannot be opened or created. A schema-1 file (before
-  // issue 15) is upgraded in place: the wrong-code counter is added, at 0.
+  // modified then), and Error(Io) when it cannot be opened or created. Older schemas are
+  // upgraded in place, in one transaction: a schema-1 file gains the wrong-code counter (at 0),
+  // schema 1 and 2 files the body-image tasks table (empty).
   explicit SessionStore(const std::string& path);
   ~SessionStore();
   SessionStore(const SessionStore&) = delete;
@@ -73,6 +75,13 @@ class SessionStore {
   void set_entries(const std::string& id, std::optional<Sex> sex, std::optional<double> weight_kg, const SessionSummary& after);
   void set_profile(const std::string& id, const std::string& profile);
   bool remove(const std::string& id);
+
+  // Body-image tasks (body_image_task.h), each change one transaction. add_task abandons the
+  // session's running task in the same transaction; answer_task writes the answer and returns
+  // false (changing nothing) unless the task exists and is running.
+  void add_task(const std::string& session_id, const BodyImageTask& task);
+  std::vector<BodyImageTask> tasks(const std::string& session_id) const;  // oldest first
+  bool answer_task(const std::string& session_id, const std::string& task_id, const BodyImageAnswer& answer);
 
  private:
   struct Impl;
