@@ -399,23 +399,29 @@ PYBIND11_MODULE(_caliper, m) {
   m.def(
       "build_avatar",
       [](std::optional<std::string> sex, std::optional<std::map<std::string, double>> measurements,
-         const std::string& estimator, const std::string& noise, const py::object& model, bool force,
-         const py::kwargs& named) {
+         const std::string& estimator, const std::string& noise, std::optional<std::map<std::string, double>> noise_sd,
+         std::optional<std::string> real_to_virtual, const py::object& model, bool force, const py::kwargs& named) {
         EdgeAvatarRequest edge;
         edge.measurements = edge_values(named, measurements);
         edge.estimator = estimator;
         edge.noise = noise;
+        edge.noise_sd = noise_sd.value_or(std::map<std::string, double>{});
+        if (real_to_virtual) edge.maps = RealToVirtual::load(*real_to_virtual);
         edge.force = force;
         const AvatarRequest request = avatar_request_from_edge(edge);  // checked before a model is loaded
         return build(model_argument(model, sex), request);
       },
       py::kw_only(), py::arg("sex") = py::none(), py::arg("measurements") = py::none(), py::arg("estimator") = "auto",
-      py::arg("noise") = "exact", py::arg("model") = "mannequin", py::arg("force") = false,
+      py::arg("noise") = "exact", py::arg("noise_sd") = py::none(), py::arg("real_to_virtual") = py::none(),
+      py::arg("model") = "mannequin", py::arg("force") = false,
       "build_avatar(*, sex='female', stature_cm=…, weight_kg=…, span_cm=None, crotch_height_cm=None, …, "
-      "measurements=None, estimator='auto', noise='exact', model='mannequin', force=False) -> Avatar\n\n"
+      "measurements=None, estimator='auto', noise='exact', noise_sd=None, real_to_virtual=None, model='mannequin', "
+      "force=False) -> Avatar\n\n"
       "Measurements are keyword arguments NAME_cm / NAME_kg (any canonical name or alias; None is skipped) or a dict "
       "measurements={name: cm or kg}. estimator: auto (= map), R2, R4, R5, R6 or 'custom:a,b'. noise (auto/map): "
-      "exact, self or other. model: a caliper.Model or a name/path. force: build even when values look swapped or "
+      "exact, self or other; noise_sd: {name: SD in cm or kg} overriding it per measurement (as --noise-sd). "
+      "real_to_virtual: a map file of `caliper map fit` applied instead of the model's own (as --map). model: a "
+      "caliper.Model or a name/path. force: build even when values look swapped or "
       "in the wrong unit (otherwise InvalidArgumentError naming the field).");
   m.def("evaluate", &evaluate_csv, py::arg("subjects"), py::kw_only(),
         py::arg("estimators") = std::vector<std::string>{"R2", "R4", "R5", "R6", "auto"}, py::arg("noise") = "none",

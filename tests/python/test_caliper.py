@@ -107,6 +107,25 @@ def test_vertices_are_identical_to_the_cli(tmp_path, extra_args, extra_kwargs):
     np.testing.assert_array_equal(a.faces, cli_faces)
 
 
+def test_noise_sds_and_a_real_to_virtual_map_give_the_clis_avatar(tmp_path):
+    pairs = Path(__file__).resolve().parents[2] / "examples" / "real-virtual-pairs.csv"
+    cli("map", "fit", str(pairs), "-o", "map.json", cwd=tmp_path)
+    cli("avatar", "--sex", "female", "--height", "165", "--weight", "60", "--span", "167", "--hip-width", "36",
+        "--noise", "self", "--noise-sd", "stature=3", "--noise-sd", "hip_breadth=0.5", "--map", "map.json", "-q",
+        "-o", "cli.obj", cwd=tmp_path)
+    a = caliper.build_avatar(**PERSON, hip_breadth_cm=36, noise="self", noise_sd={"height": 3, "hip_breadth": 0.5},
+                             real_to_virtual=str(tmp_path / "map.json"))
+    np.testing.assert_array_equal(a.vertices, read_obj(tmp_path / "cli.obj")[0])
+    assert a.input_fits["stature"]["noise_sd"] == pytest.approx(0.03)
+    plain = caliper.build_avatar(**PERSON, hip_breadth_cm=36, noise="self")
+    assert not np.array_equal(a.vertices, plain.vertices)
+    with pytest.raises(caliper.OutOfRangeError) as info:
+        caliper.build_avatar(**PERSON, noise_sd={"stature": 0})
+    assert info.value.field == "stature"
+    with pytest.raises(caliper.IoError):
+        caliper.build_avatar(**PERSON, real_to_virtual=str(tmp_path / "none.json"))
+
+
 # ---- save round trips -------------------------------------------------------------------------
 
 def test_obj_round_trip_is_exact(avatar, tmp_path):
