@@ -13,6 +13,7 @@ APT_PACKAGES=(
   clang libclang-rt-14-dev
   nodejs npm chromium
   python3-numpy python3-dev pybind11-dev python3-pybind11 python3-pytest
+  python3-pip python3-setuptools python3-wheel python3-venv python3-distributed
 )
 
 SUDO=""

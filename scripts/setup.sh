@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The README's first command: installs every dependency (Debian + npm), builds Caliper, installs
 # it for you (the `caliper` command, its models and the desktop tool's page) under
-# $CALIPER_PREFIX (default ~/.local), and runs the main job with the installed command — an
-# avatar from measurements on the built-in body model.
+# $CALIPER_PREFIX (default ~/.local) and the Python package `caliper` for your user, and runs the
+# main job with the installed command — an avatar from measurements on the built-in body model.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -11,6 +11,13 @@ PREFIX="${CALIPER_PREFIX:-$HOME/.local}"
 echo
 echo "[caliper] installing into $PREFIX (bin/caliper, share/caliper/, include/, lib/; CALIPER_PREFIX=… picks another folder)"
 cmake --install build --prefix "$PREFIX" >/dev/null
+# The Python package (docs/python.md), for Debian's python3 and your user, from the module just
+# built (no second compile, no network).
+if ls build/python/caliper/_caliper*.so >/dev/null 2>&1; then
+  echo "[caliper] installing the Python package caliper for your user (import caliper; docs/python.md)"
+  CALIPER_CMAKE_BUILD_DIR=build /usr/bin/python3 -m pip install --quiet --user --no-build-isolation --no-index \
+    --break-system-packages --root-user-action=ignore --disable-pip-version-check .
+fi
 CALIPER="$PREFIX/bin/caliper"
 mkdir -p out
 echo

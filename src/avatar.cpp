@@ -8,6 +8,7 @@
 
 #include "caliper/errors.h"
 #include "caliper/vocabulary/catalogue.h"
+#include "caliper/measure/input_check.h"
 #include "caliper/measure/measure.h"
 
 namespace caliper {
@@ -264,6 +265,52 @@ std::map<std::string, double> measurements_from_edge(const std::map<std::string,
     si[info->name] = edge_to_si(*info, value);
   }
   return si;
+}
+
+namespace {
+// Values as typed by name or alias → by canonical name (unknown names kept for
+// measurements_from_edge to name); a measurement given twice under two names is refused.
+std::map<std::string, double> by_canonical_name(const std::map<std::string, double>& edge_values) {
+  std::map<std::string, double> canonical;
+  for (const auto& [name, value] : edge_values) {
+    const MeasurementInfo* info = find_measurement_info(name);
+    const std::string key = info ? info->name : name;
+    if (!canonical.emplace(key, value).second)
+      throw Error(ErrorKind::InvalidArgument, key + " is given twice (as '" + name + "' and another alias)", key);
+  }
+  return canonical;
+}
+
+// Noise SDs as typed (cm or kg, by name or alias) → SI by canonical name.
+std::map<std::string, double> noise_sd_from_edge(const std::map<std::string, double>& edge_sd) {
+  std::map<std::string, double> si;
+  for (const auto& [name, sd] : edge_sd) {
+    const MeasurementInfo* info = find_measurement_info(name);
+    if (!info) throw Error(ErrorKind::InvalidArgument, "noise SD of an unknown measurement '" + name + "'", name);
+    if (!std::isfinite(sd) || sd <= 0 || sd > 50)
+      throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be in (0, 50] " + edge_unit(*info), info->name);
+    si[info->name] = info->unit == Unit::Kilogram ? sd : sd / 100.0;
+  }
+  return si;
+}
+}  // namespace
+
+AvatarRequest avatar_request_from_edge(const EdgeAvatarRequest& edge) {
+  // With nothing given the estimator would fail deep inside with an "unsupported" error.
+  if (edge.measurements.empty())
+    throw Error(ErrorKind::InvalidArgument, "no measurements given: give at least stature (cm) and weight (kg)",
+                "measurements");
+  const std::map<std::string, double> values = by_canonical_name(edge.measurements);
+  // Typing mistakes are asked about before the range checks, which would only say "out of range".
+  if (!edge.force)
+    if (auto suspects = suspect_input_mistakes(values); !suspects.empty()) throw SuspectInputError(std::move(suspects));
+  AvatarRequest request;
+  request.measurements = measurements_from_edge(values);
+  request.regressor = edge.estimator;
+  request.noise = edge.noise;
+  request.noise_sd = noise_sd_from_edge(edge.noise_sd);
+  request.maps = edge.maps;
+  return request;
 }
 
 }  // namespace caliper

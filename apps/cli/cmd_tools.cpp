@@ -48,13 +48,7 @@ void register_measure(CLI::App& app) {
       // The same volume → weight fit the model's avatars use, so a mesh exported by `caliper
       // avatar` measures the weight its report gave.
       const BodyModel model = load_model(opts->model, parse_sex(opts->sex));
-      MeshMeasurements mm = measure_mesh(m, model.data().weight_from_volume);
-      if (!(mm.stature >= 0.5 && mm.stature <= 2.5)) {
-        std::ostringstream msg;
-        msg << "the mesh is " << mm.stature << " m tall, outside the accepted stature range [50, 250] cm: OBJ meshes are "
-            << "read in metres (scale a file in centimetres by 0.01, in millimetres by 0.001)";
-        throw Error(ErrorKind::OutOfRange, msg.str(), "--mesh");
-      }
+      const MeshMeasurements mm = measure_person_mesh(m, model.data().weight_from_volume, "--mesh");
       if (*json) {
         nlohmann::ordered_json j = {{"stature_cm", mm.stature * 100}, {"volume_l", mm.volume * 1000}, {"weight_kg", mm.weight}};
         std::cout << j.dump(2) << "\n";

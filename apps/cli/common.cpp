@@ -11,15 +11,8 @@
 
 namespace caliper::cli {
 
-namespace {
-// Values that look like a typing mistake: their own exit code, so a script can tell them apart.
-struct SuspectValues : Error {
-  using Error::Error;
-};
-}  // namespace
-
 int exit_code_for(const Error& e) {
-  if (dynamic_cast<const SuspectValues*>(&e)) return kSuspectValues;
+  if (dynamic_cast<const SuspectInputError*>(&e)) return kSuspectValues;
   if (e.from_installation()) return kCannotServe;
   switch (e.kind()) {
     case ErrorKind::InvalidArgument:
@@ -147,36 +140,27 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
       throw Error(ErrorKind::InvalidArgument, unknown_measurement_message(name, "--set"), name);
     }
   }
-  std::map<std::string, double> noise_sd;  // SI
+  EdgeAvatarRequest edge_request;
   for (const auto& kv : opts.noise_sd) {
     const auto [name, v] = name_value(kv, "--noise-sd");
-    const MeasurementInfo* info = find_measurement_info(name);
-    if (!info) throw Error(ErrorKind::InvalidArgument, unknown_measurement_message(name, "--noise-sd"), "--noise-sd");
-    if (!std::isfinite(v) || v <= 0 || v > 50)
-      throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be in (0, 50] " + edge_unit(*info), info->name);
-    noise_sd[info->name] = info->unit == Unit::Kilogram ? v : v / 100.0;
+    if (!find_measurement_info(name))
+      throw Error(ErrorKind::InvalidArgument, unknown_measurement_message(name, "--noise-sd"), "--noise-sd");
+    edge_request.noise_sd[name] = v;
   }
-  // With nothing given the estimator would fail deep inside with an "unsupported" error; say what
-  // the command needs instead.
+  // With nothing given, say which options the command needs.
   if (edge.empty() && opts.beta.empty())
     throw Error(ErrorKind::InvalidArgument,
                 "no measurements given: give at least stature and weight (e.g. --height 165 --weight 62), a "
                 "measurement set (--measurements FILE) or shape values (--beta 0 for the mean body)",
                 "measurements");
-  // Typing mistakes (swapped, wrong unit) are asked about before anything is built (issue 14).
-  if (!opts.force)
-    if (const auto suspects = suspect_input_mistakes(edge); !suspects.empty())
-      throw SuspectValues(ErrorKind::InvalidArgument, describe_suspects(suspects), suspects.front().field);
-  // Values are checked before the model is loaded, so a bad value is reported as such.
-  std::map<std::string, double> si = measurements_from_edge(edge);
   if (opts.weight_change_pct) check_weight_change(*opts.weight_change_pct, "--weight-change");
-  out.model = std::make_shared<const BodyModel>(load_model(opts.model, sex));
   if (!opts.beta.empty()) {
     if (!edge.empty())
       throw Error(ErrorKind::InvalidArgument, "give either --beta or measurements, not both", "--beta");
     if (opts.weight_change_pct)
       throw Error(ErrorKind::InvalidArgument, "--weight-change needs measurements (it keeps the lengths given), not --beta",
                   "--weight-change");
+    out.model = std::make_shared<const BodyModel>(load_model(opts.model, sex));
     // β ~ N(0, I): beyond ±5 SD the shape space extrapolates into bodies that are not bodies.
     for (size_t k = 0; k < opts.beta.size(); ++k)
       if (!std::isfinite(opts.beta[k]) || std::abs(opts.beta[k]) > 5) {
@@ -194,15 +178,15 @@ static BuiltAvatar build_avatar_quietly(const BodyOptions& opts) {
     a.achieved = measure_all(*out.model, a.rest_vertices);
     return out;
   }
-  AvatarRequest request;
-  request.measurements = si;
-  request.regressor = opts.regressor;
-  request.noise = noise;
-  request.noise_sd = noise_sd;
-  if (!opts.map_file.empty()) {
-    // A user's own map replaces the model's default one.
-    request.maps = RealToVirtual::load(opts.map_file);
-  }
+  edge_request.measurements = edge;
+  edge_request.estimator = opts.regressor;
+  edge_request.noise = noise;
+  edge_request.force = opts.force;
+  // A user's own map replaces the model's default one.
+  if (!opts.map_file.empty()) edge_request.maps = RealToVirtual::load(opts.map_file);
+  // Values are checked before the model is loaded, so a bad value is reported as such.
+  const AvatarRequest request = avatar_request_from_edge(edge_request);
+  out.model = std::make_shared<const BodyModel>(load_model(opts.model, sex));
   AvatarBuilder builder(out.model);
   out.avatar = builder.build(request);
   if (opts.weight_change_pct) out.avatar = with_weight_change(builder, out.avatar, *opts.weight_change_pct);

@@ -116,4 +116,23 @@ bool measured_differs_from_rest_pose(const Avatar& avatar, const std::string& na
 // Throws Error naming the field and accepted range for NaN, negatives and absurd values.
 std::map<std::string, double> measurements_from_edge(const std::map<std::string, double>& edge_values);
 
+// An avatar request as a person states it at the user's edge (CLI options, Python keyword
+// arguments): values in cm and kg, by canonical name or alias, not yet checked.
+struct EdgeAvatarRequest {
+  std::map<std::string, double> measurements;  // name or alias → cm or kg, as typed
+  std::string estimator = "auto";              // AvatarRequest::regressor
+  std::string noise = "exact";                 // exact | self | other (auto / map)
+  std::map<std::string, double> noise_sd;      // name or alias → SD in cm or kg, (0, 50]
+  std::optional<RealToVirtual> maps;           // a user's maps instead of the model's own
+  bool force = false;                          // use values that look like typing mistakes as given
+};
+// The checked SI request for `edge`, in the order a person should hear about problems: nothing
+// given (Error(InvalidArgument), field "measurements"), values that look swapped or in the wrong
+// unit (SuspectInputError, unless `force`), then each value and noise SD (finite, in range,
+// known name: Error naming the field and the accepted range). Needs no model, so a bad value is
+// reported before a model is loaded; then `AvatarBuilder::build(request)` makes the avatar. This
+// is the one way from the edge to an avatar for `caliper avatar` and Python's build_avatar, so
+// both give the same avatar for the same values.
+AvatarRequest avatar_request_from_edge(const EdgeAvatarRequest& edge);
+
 }  // namespace caliper

@@ -184,6 +184,13 @@ std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model, cons
   return world;
 }
 
+Eigen::MatrixX3d posed_joints(const BodyModel& model, const Eigen::MatrixX3d& rest_joints, const Pose& pose) {
+  const auto world = joint_world_transforms(model, rest_joints, pose);
+  Eigen::MatrixX3d out(static_cast<Eigen::Index>(world.size()), 3);
+  for (size_t j = 0; j < world.size(); ++j) out.row(static_cast<Eigen::Index>(j)) = world[j].topRightCorner<3, 1>().transpose();
+  return out;
+}
+
 Vertices pose_vertices(const BodyModel& model, const Vertices& rest, const Pose& pose) {
   if (rest.rows() != model.vertex_count())
     throw Error(ErrorKind::InvalidArgument, "vertex count does not match the model", "vertices");

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -549,9 +550,23 @@ std::string installed_data_dir() {
   return fs::is_directory(share, ec) ? share.string() : "";
 }
 
+namespace {
+// `models/` beside the binary that holds this library, when there is one: the Python package's
+// module (site-packages/caliper/_caliper….so → site-packages/caliper/models, put there by
+// `pip install`). "" otherwise (a program's bin/ has none).
+std::string models_beside_binary() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&models_dir), &info) == 0 || info.dli_fname == nullptr) return "";
+  std::error_code ec;
+  const fs::path dir = fs::absolute(info.dli_fname, ec).parent_path() / "models";
+  return !ec && fs::is_directory(dir, ec) ? dir.string() : "";
+}
+}  // namespace
+
 std::string models_dir() {
   const char* env = std::getenv("CALIPER_MODELS_DIR");
   if (env && *env) return env;
+  if (std::string beside = models_beside_binary(); !beside.empty()) return beside;
   if (const std::string share = installed_data_dir(); !share.empty()) {
     std::error_code ec;
     if (fs::is_directory(fs::path(share) / "models", ec)) return (fs::path(share) / "models").string();

@@ -122,4 +122,8 @@ std::string describe_suspects(const std::vector<SuspectValue>& suspects) {
   return m.str();
 }
 
+SuspectInputError::SuspectInputError(std::vector<SuspectValue> suspects)
+    : Error(ErrorKind::InvalidArgument, describe_suspects(suspects), suspects.empty() ? "" : suspects.front().field),
+      suspects_(std::move(suspects)) {}
+
 }  // namespace caliper

@@ -5,10 +5,12 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "caliper/body/mesh.h"
 #include "caliper/errors.h"
 #include "caliper/measure/geometry.h"
+#include "caliper/vocabulary/catalogue.h"
 
 namespace caliper {
 
@@ -227,6 +229,37 @@ MeshMeasurements measure_mesh(const Mesh& mesh, const WeightFromVolume& coeffici
     throw Error(ErrorKind::Format, "mesh faces point inwards (negative volume); flip the winding", "mesh");
   m.weight = coefficients.a * m.volume + coefficients.b;
   return m;
+}
+
+namespace {
+// A body `height` metres tall must be a person's size; a mesh in cm or mm is 100 or 1000 times too tall.
+void check_person_height(double height, const std::string& field) {
+  const MeasurementInfo& stature = *find_measurement_info("stature");
+  const double edge = si_to_edge(stature, height);
+  if (edge >= stature.min_edge && edge <= stature.max_edge) return;
+  std::ostringstream msg;
+  msg << "the mesh is " << height << " m tall, outside the accepted stature range [" << stature.min_edge << ", "
+      << stature.max_edge << "] " << edge_unit(stature) << ": meshes are read in metres (scale one in centimetres by "
+      << "0.01, in millimetres by 0.001)";
+  throw Error(ErrorKind::OutOfRange, msg.str(), field);
+}
+}  // namespace
+
+MeshMeasurements measure_person_mesh(const Mesh& mesh, const WeightFromVolume& coefficients, const std::string& field) {
+  const MeshMeasurements m = measure_mesh(mesh, coefficients);
+  check_person_height(m.stature, field);
+  return m;
+}
+
+std::map<std::string, double> measure_person(const BodyModel& model, const Mesh& mesh, const std::string& field) {
+  const bool model_topology = mesh.vertices.rows() == model.vertex_count() &&
+                              mesh.faces.rows() == model.faces().rows() && mesh.faces == model.faces();
+  if (!model_topology) {
+    const MeshMeasurements m = measure_person_mesh(mesh, model.data().weight_from_volume, field);
+    return {{"stature", m.stature}, {"volume", m.volume}, {"weight", m.weight}};
+  }
+  check_person_height(mesh.vertices.col(1).maxCoeff() - mesh.vertices.col(1).minCoeff(), field);
+  return measure_all(model, mesh.vertices);
 }
 
 }  // namespace caliper

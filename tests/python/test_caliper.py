@@ -107,6 +107,25 @@ def test_vertices_are_identical_to_the_cli(tmp_path, extra_args, extra_kwargs):
     np.testing.assert_array_equal(a.faces, cli_faces)
 
 
+def test_noise_sds_and_a_real_to_virtual_map_give_the_clis_avatar(tmp_path):
+    pairs = Path(__file__).resolve().parents[2] / "examples" / "real-virtual-pairs.csv"
+    cli("map", "fit", str(pairs), "-o", "map.json", cwd=tmp_path)
+    cli("avatar", "--sex", "female", "--height", "165", "--weight", "60", "--span", "167", "--hip-width", "36",
+        "--noise", "self", "--noise-sd", "stature=3", "--noise-sd", "hip_breadth=0.5", "--map", "map.json", "-q",
+        "-o", "cli.obj", cwd=tmp_path)
+    a = caliper.build_avatar(**PERSON, hip_breadth_cm=36, noise="self", noise_sd={"height": 3, "hip_breadth": 0.5},
+                             real_to_virtual=str(tmp_path / "map.json"))
+    np.testing.assert_array_equal(a.vertices, read_obj(tmp_path / "cli.obj")[0])
+    assert a.input_fits["stature"]["noise_sd"] == pytest.approx(0.03)
+    plain = caliper.build_avatar(**PERSON, hip_breadth_cm=36, noise="self")
+    assert not np.array_equal(a.vertices, plain.vertices)
+    with pytest.raises(caliper.OutOfRangeError) as info:
+        caliper.build_avatar(**PERSON, noise_sd={"stature": 0})
+    assert info.value.field == "stature"
+    with pytest.raises(caliper.IoError):
+        caliper.build_avatar(**PERSON, real_to_virtual=str(tmp_path / "none.json"))
+
+
 # ---- save round trips -------------------------------------------------------------------------
 
 def test_obj_round_trip_is_exact(avatar, tmp_path):
@@ -144,12 +163,37 @@ def cube(side):
     return v, f
 
 
+def box(width, height, depth):
+    """A closed box standing on y = 0: the cube scaled per axis (still counter-clockwise from outside)."""
+    v, f = cube(1.0)
+    return v * [width, height, depth], f
+
+
 def test_measure_a_bare_mesh_gives_stature_and_volume():
-    v, f = cube(0.5)
+    v, f = box(0.4, 1.7, 0.25)
     m = caliper.measure(v, f)
-    assert m["stature"] == pytest.approx(0.5)
-    assert m["volume"] == pytest.approx(0.125)
+    assert set(m) == {"stature", "volume", "weight"}
+    assert m["stature"] == pytest.approx(1.7)
+    assert m["volume"] == pytest.approx(0.4 * 1.7 * 0.25)
     assert m["weight"] > 0
+
+
+@pytest.mark.parametrize("scale, unit", [(100, "centimetres"), (1000, "millimetres"), (0.1, "decimetres")])
+def test_a_mesh_not_in_metres_is_refused_like_the_cli(scale, unit, avatar, female, tmp_path):
+    v, f = box(0.4, 1.7, 0.25)
+    for vertices, faces, model in ((v * scale, f, "mannequin"), (avatar.vertices * scale, avatar.faces, female)):
+        with pytest.raises(caliper.OutOfRangeError) as info:
+            caliper.measure(vertices, faces, model=model)
+        assert info.value.field == "vertices", unit
+        assert "read in metres" in str(info.value) and "[50, 250] cm" in str(info.value)
+    # The command line says the same about the same mesh (its field is its option).
+    avatar.save(str(tmp_path / "me.obj"))
+    scaled = [" ".join(["v"] + [repr(float(x) * scale) for x in line.split()[1:]]) if line.startswith("v ") else line
+              for line in (tmp_path / "me.obj").read_text().splitlines()]
+    (tmp_path / "scaled.obj").write_text("\n".join(scaled) + "\n")
+    done = subprocess.run([os.environ["CALIPER_CLI"], "measure", "--mesh", "scaled.obj"], cwd=tmp_path,
+                          capture_output=True, text=True)
+    assert done.returncode == 3 and "read in metres" in done.stderr
 
 
 def test_measure_the_models_topology_gives_every_measurement(avatar, female):
@@ -177,9 +221,15 @@ def test_bad_stature_names_the_field(value, error):
 
 
 def test_stature_in_metres_is_refused_with_what_was_meant():
-    with pytest.raises(caliper.InvalidArgumentError) as info:
+    with pytest.raises(caliper.SuspectInputError) as info:
         caliper.build_avatar(sex="female", stature_cm=1.65, weight_kg=60)
     assert info.value.field == "stature" and "165" in str(info.value)
+    assert isinstance(info.value, caliper.InvalidArgumentError)
+    # Swapped values too; force=True builds with the values as given.
+    with pytest.raises(caliper.SuspectInputError) as info:
+        caliper.build_avatar(sex="female", stature_cm=60, weight_kg=165)
+    assert "swapped" in str(info.value)
+    assert caliper.build_avatar(sex="female", stature_cm=60, weight_kg=165, force=True).warnings
 
 
 @pytest.mark.parametrize("arguments, field, hint", [
@@ -222,7 +272,7 @@ def test_bad_model_sex_and_estimator_are_refused(female):
 
 
 def test_bad_arrays_name_the_argument(avatar):
-    v, f = cube(1.0)
+    v, f = box(0.4, 1.7, 0.25)
     bad = v.copy()
     bad[3, 1] = np.nan
     with pytest.raises(caliper.InvalidArgumentError) as info:
@@ -255,7 +305,7 @@ def test_bad_save_paths_are_refused(avatar, tmp_path):
 def test_threads_build_the_same_avatars_as_one_thread(female):
     statures = [150, 160, 170, 180]
     one = [caliper.build_avatar(stature_cm=s, weight_kg=65, model=female).vertices for s in statures]
-    with ThreadPoolExecutor(4) as pool:
+    with ThreadPoolExecutor(2) as pool:
         many = list(pool.map(lambda s: caliper.build_avatar(stature_cm=s, weight_kg=65, model=female).vertices, statures))
     for a, b in zip(one, many):
         np.testing.assert_array_equal(a, b)
@@ -292,14 +342,243 @@ def test_library_calls_release_the_gil(female):
     assert _counting_rate_during(builds) > 4 * _counting_rate_during(held)
 
 
-# ---- the documentation's example ---------------------------------------------------------------
+# ---- the documentation's examples, taken from the page itself --------------------------------
 
-def test_the_worked_example_in_docs_runs(tmp_path):
-    """Each python block of docs/python.md, run as a script the way a reader would (a pool needs a real __main__)."""
+def doc_blocks(uses_dask):
     blocks = re.findall(r"```python\n(.*?)```", DOCS.read_text(), re.S)
     assert blocks, "docs/python.md has no python example"
-    for i, block in enumerate(blocks):
-        script = tmp_path / f"example{i}.py"
-        script.write_text(block)
-        done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True)
-        assert done.returncode == 0, f"docs/python.md example {i + 1} failed:\n{done.stdout}\n{done.stderr}"
+    return [b for b in blocks if ("dask" in b) == uses_dask]
+
+
+def run_as_script(block, path, cwd):
+    """A block run the way a reader runs it: as a script (a process pool needs a real __main__)."""
+    path.write_text(block)
+    done = subprocess.run([sys.executable, str(path)], cwd=cwd, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, f"{path.name} from docs/python.md failed:\n{done.stdout}\n{done.stderr}"
+    return done.stdout
+
+
+def test_the_worked_example_in_docs_runs(tmp_path):
+    blocks = doc_blocks(uses_dask=False)
+    assert len(blocks) == 1
+    out = run_as_script(blocks[0], tmp_path / "example.py", tmp_path)
+    assert "meshes are read in metres" in out and "→ avatar of" in out
+    for name in ("me.glb", "me-unity.glb", "me.vrm", "me.fbx", "me.obj"):
+        assert (tmp_path / name).stat().st_size > 1000, name
+
+
+def test_the_dask_batch_in_docs_runs(tmp_path):
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        message = "dask.distributed is missing (Debian: python3-distributed, scripts/install-deps.sh)"
+        if os.environ.get("CALIPER_REQUIRE_TOOLS") == "1":
+            pytest.fail(message)
+        pytest.skip(message)
+    blocks = doc_blocks(uses_dask=True)
+    assert len(blocks) == 1
+    out = run_as_script(blocks[0], tmp_path / "dask_batch.py", tmp_path)
+    assert out.count("waist") == 4
+
+
+# ---- skin weights, posing ---------------------------------------------------------------------
+
+def test_skin_weights_are_a_dense_matrix_whose_rows_sum_to_one(female, avatar):
+    w = female.skin_weights
+    assert w.shape == (female.vertex_count, len(female.joint_names)) and w.dtype == np.float64
+    np.testing.assert_allclose(w.sum(axis=1), 1.0, atol=1e-12)
+    assert (w >= 0).all()
+    np.testing.assert_array_equal(avatar.skin_weights, w)
+    assert len(female.parents) == len(female.joint_names) and female.parents[0] == -1
+
+
+def rotation_about_y(angle):
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def test_a_global_rotation_turns_the_whole_body_about_the_root_joint(avatar):
+    pose = np.zeros((24, 3))
+    pose[0] = [0, np.pi / 2, 0]  # joint 0 carries the global orientation
+    vertices, joints = avatar.pose(pose)
+    r = rotation_about_y(np.pi / 2)
+    root = avatar.joints[0]
+    np.testing.assert_allclose(vertices, (avatar.vertices - root) @ r.T + root, atol=1e-12)
+    np.testing.assert_allclose(joints, (avatar.joints - root) @ r.T + root, atol=1e-12)
+
+
+def test_pose_shapes_and_the_rest_pose(avatar, female):
+    n, j = female.vertex_count, len(female.joint_names)
+    vertices, joints = avatar.pose(np.zeros(72))
+    assert vertices.shape == (n, 3) and joints.shape == (j, 3) and vertices.dtype == np.float64
+    np.testing.assert_allclose(vertices, avatar.vertices, atol=1e-12)
+    np.testing.assert_allclose(joints, avatar.joints, atol=1e-12)
+    # 72 values, 24×3 and a list are the same pose; the built-in rig takes its own 54×3 (fingers).
+    bend = np.zeros((24, 3))
+    bend[18] = [0, 0, -1.2]  # left elbow
+    flat, _ = avatar.pose(bend.reshape(-1).tolist())
+    np.testing.assert_array_equal(flat, avatar.pose(bend)[0])
+    assert j == 54
+    rig = np.zeros((54, 3))
+    rig[:24] = bend
+    np.testing.assert_array_equal(avatar.pose(rig)[0], flat)
+    moved = np.linalg.norm(flat - avatar.vertices, axis=1) > 1e-9
+    assert 0 < moved.sum() < n / 4  # the forearm and hand moved, the rest did not
+
+
+def test_bad_poses_name_the_pose(avatar):
+    for bad in (np.zeros(71), np.zeros((24, 2)), np.zeros((2, 24, 3))):
+        with pytest.raises(caliper.InvalidArgumentError) as info:
+            avatar.pose(bad)
+        assert info.value.field == "pose"
+    nan = np.zeros(72)
+    nan[5] = np.nan
+    with pytest.raises(caliper.InvalidArgumentError) as info:
+        avatar.pose(nan)
+    assert info.value.field == "pose"
+
+
+# ---- plausibility and uncertainty --------------------------------------------------------------
+
+def test_plausibility_and_uncertainty_are_the_reports(avatar):
+    report = avatar.report
+    p = avatar.plausibility
+    assert p["verdict"] == report["plausibility"]["verdict"] == "plausible"
+    assert p["per_value"] == report["plausibility"]["per_value"] and len(p["per_value"]) == len(avatar.beta)
+    assert p["mahalanobis_sq"] == pytest.approx(float(avatar.beta @ avatar.beta))
+    assert avatar.noise == "exact" and set(avatar.requested) == {"stature", "weight", "span"}
+    sd = avatar.uncertainty
+    assert set(sd) <= set(avatar.achieved) and all(v >= 0 for v in sd.values())
+    assert report["measurements"]["chest_circumference"]["uncertainty_cm"] == pytest.approx(
+        sd["chest_circumference"] * 100, abs=0.006)
+    assert avatar.beta_covariance.shape == (len(avatar.beta), len(avatar.beta))
+    fits = avatar.input_fits
+    assert set(fits) == {"stature", "weight", "span"}
+    assert fits["stature"]["value"] == pytest.approx(1.65) and fits["stature"]["fitted"] == pytest.approx(1.65, abs=1e-3)
+
+
+def test_the_papers_regressors_have_no_uncertainty(female):
+    a = caliper.build_avatar(stature_cm=165, weight_kg=60, estimator="R2", model=female)
+    assert a.estimator == "R2" and a.uncertainty == {} and a.vertex_sd.shape == (0,) and a.input_fits == {}
+    assert a.plausibility["verdict"] in ("plausible", "unusual", "implausible")
+
+
+# ---- every file the CLI writes -----------------------------------------------------------------
+
+def glb_json(path):
+    data = Path(path).read_bytes()
+    json_length, json_type = struct.unpack_from("<I4s", data, 12)
+    assert json_type == b"JSON"
+    return json.loads(data[20:20 + json_length])
+
+
+@pytest.mark.parametrize("name, options, cli_options", [
+    ("me.glb", {}, []),
+    ("me.glb", dict(skeleton="humanoid", morphs=True), ["--skeleton", "humanoid", "--morphs"]),
+    ("me.vrm", {}, []),
+    ("me.fbx", dict(skeleton="humanoid"), ["--skeleton", "humanoid"]),
+    ("me.obj", {}, []),
+])
+def test_saved_files_are_byte_for_byte_the_clis(name, options, cli_options, tmp_path):
+    a = caliper.build_avatar(**PERSON)
+    a.save(str(tmp_path / name), **options)
+    cli("avatar", "--sex", "female", "--height", "165", "--weight", "60", "--span", "167", *cli_options, "-q",
+        "-o", "cli-" + name, cwd=tmp_path)
+    ours, theirs = (tmp_path / name).read_bytes(), (tmp_path / ("cli-" + name)).read_bytes()
+    assert len(ours) > 1000 and ours == theirs
+
+
+def test_save_options_change_the_file(avatar, tmp_path):
+    avatar.save(str(tmp_path / "smpl.glb"))
+    avatar.save(str(tmp_path / "humanoid.glb"), skeleton="humanoid", morphs=True)
+    smpl, humanoid = glb_json(tmp_path / "smpl.glb"), glb_json(tmp_path / "humanoid.glb")
+    names = lambda g: {node.get("name") for node in g["nodes"]}
+    assert "left_elbow" in names(smpl) and "LeftLowerArm" in names(humanoid)
+    assert "targets" not in smpl["meshes"][0]["primitives"][0]
+    assert len(humanoid["meshes"][0]["primitives"][0]["targets"]) == len(avatar.beta)
+
+
+def test_bad_save_options_are_refused(avatar, tmp_path):
+    with pytest.raises(caliper.InvalidArgumentError) as info:
+        avatar.save(str(tmp_path / "me.glb"), skeleton="mixamo")
+    assert info.value.field == "skeleton"
+    with pytest.raises(caliper.InvalidArgumentError):
+        avatar.save(str(tmp_path / "me.obj"), morphs=True)
+    assert not (tmp_path / "me.glb").exists() and not (tmp_path / "me.obj").exists()
+
+
+# ---- evaluation -----------------------------------------------------------------------------------
+
+EXAMPLE_PEOPLE = Path(__file__).resolve().parents[2] / "examples" / "people.csv"
+
+
+def test_evaluate_gives_the_figures_of_caliper_eval(tmp_path):
+    ours = caliper.evaluate(str(EXAMPLE_PEOPLE), estimators=["R2", "auto"], noise="self", seed=7)
+    cli("eval", "--subjects", str(EXAMPLE_PEOPLE), "--regressor", "R2,auto", "--noise", "self", "--seed", "7",
+        "-q", "--json", "eval.json", cwd=tmp_path)
+    assert ours == json.loads((tmp_path / "eval.json").read_text())
+    assert ours["subjects"] == 3 and set(ours["regressors"]) == {"R2", "auto"}
+
+
+def test_evaluate_refuses_bad_input(tmp_path):
+    with pytest.raises(caliper.IoError):
+        caliper.evaluate(str(tmp_path / "none.csv"))
+    (tmp_path / "bad.csv").write_text("SubjectId,Gender,stature\nx,Female,abc\n")
+    with pytest.raises(caliper.Error):
+        caliper.evaluate(str(tmp_path / "bad.csv"))
+    with pytest.raises(caliper.InvalidArgumentError):
+        caliper.evaluate(str(EXAMPLE_PEOPLE), noise="loud")
+    with pytest.raises(caliper.OutOfRangeError) as info:
+        caliper.evaluate(str(EXAMPLE_PEOPLE), threads=0)
+    assert info.value.field == "threads"
+
+
+# ---- other models ---------------------------------------------------------------------------------
+
+SMPL_PARENTS = [-1, 0, 0, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 9, 9, 12, 13, 14, 16, 17, 18, 19, 20, 21]
+
+
+def synthetic_smpl(path, n=40, shapes=10, seed=3):
+    """A small file with SMPL's arrays and 24 joints (not SMPL's mesh), written here with NumPy."""
+    rng = np.random.default_rng(seed)
+    arrays = dict(
+        v_template=rng.uniform(-0.5, 0.5, (n, 3)) + [0, 0.9, 0],
+        shapedirs=rng.normal(0, 0.01, (n, 3, shapes)),
+        J_regressor=rng.dirichlet(np.ones(n), 24),
+        weights=rng.dirichlet(np.ones(24), n),
+        kintree_table=np.array([[2**32 - 1 if p < 0 else p for p in SMPL_PARENTS], list(range(24))], dtype=np.uint32),
+        f=np.array([[i, i + 1, i + 2] for i in range(n - 2)], dtype=np.uint32),
+    )
+    np.savez(path, **arrays)
+    return arrays
+
+
+def test_an_smpl_file_loads_with_its_arrays(tmp_path):
+    arrays = synthetic_smpl(tmp_path / "SMPL_TEST.npz")
+    m = caliper.load_model(str(tmp_path / "SMPL_TEST.npz"), sex="male")
+    assert m.sex == "male" and m.vertex_count == 40 and m.shape_count == 10
+    assert m.joint_names[0] == "pelvis" and m.joint_names[23] == "right_hand" and m.parents == SMPL_PARENTS
+    np.testing.assert_array_equal(m.faces, arrays["f"])
+    np.testing.assert_allclose(m.skin_weights, arrays["weights"], atol=1e-12)
+    # Stood on the floor: y shifted so the lowest vertex is at 0, x and z as in the file.
+    t = arrays["v_template"]
+    np.testing.assert_allclose(m.template_vertices, t - [0, t[:, 1].min(), 0], atol=1e-12)
+
+
+def test_a_broken_smpl_file_names_the_array(tmp_path):
+    arrays = synthetic_smpl(tmp_path / "ok.npz")
+    arrays["weights"] = arrays["weights"][:, :5]
+    np.savez(tmp_path / "bad.npz", **arrays)
+    with pytest.raises(caliper.FormatError) as info:
+        caliper.load_model(str(tmp_path / "bad.npz"))
+    assert info.value.field == "weights" and info.value.origin == "caller"
+
+
+def test_a_makehuman_build_loads_when_there_is_one():
+    try:
+        m = caliper.load_model("makehuman", sex="female")
+    except caliper.IoError:
+        pytest.skip("no models/makehuman-female.npz: build it from ../shared/data/makehuman (docs/makehuman.md)")
+    assert m.name == "makehuman-female" and m.vertex_count > 10000
+    a = caliper.build_avatar(stature_cm=165, weight_kg=60, model=m)
+    assert a.achieved["stature"] == pytest.approx(1.65, abs=0.005)

@@ -44,6 +44,8 @@ std::vector<Eigen::Matrix4d> joint_world_transforms(const BodyModel& model,
                                                     const Eigen::MatrixX3d& rest_joints,
                                                     const Pose& pose);
 
+// Joint positions (J×3) in a pose: each joint where joint_world_transforms puts it.
+Eigen::MatrixX3d posed_joints(const BodyModel& model, const Eigen::MatrixX3d& rest_joints, const Pose& pose);
 // Posed vertices (N×3) by linear blend skinning of rest vertices. Throws Error(InvalidArgument)
 // if the pose has the wrong number of rows or a non-finite value.
 Vertices pose_vertices(const BodyModel& model, const Vertices& rest, const Pose& pose);

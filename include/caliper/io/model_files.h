@@ -35,8 +35,9 @@ BodyModel load_model(const std::string& name_or_path, Sex sex);
 const std::string& smpl_landmarks_json();
 
 // Folder of the models found by name (docs/cli.md "Where Caliper finds its files"):
-// $CALIPER_MODELS_DIR if set, else `share/caliper/models` of the running program's installation
-// (installed_data_dir), else the source tree's `models/` it was built from.
+// $CALIPER_MODELS_DIR if set, else `models/` beside the binary holding the library (the Python
+// package's module, docs/python.md), else `share/caliper/models` of the running program's
+// installation (installed_data_dir), else the source tree's `models/` it was built from.
 std::string models_dir();
 
 // `<prefix>/share/caliper` of an installed program, found from the running executable's own path

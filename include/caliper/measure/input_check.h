@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "caliper/errors.h"
+
 namespace caliper {
 
 struct SuspectValue {
@@ -29,5 +31,17 @@ std::map<std::string, double> apply_suggestions(std::map<std::string, double> ed
 // One message for all suspects: "height 60 cm and weight 165 kg look swapped: did you mean
 // height 165 cm, weight 60 kg? …; repeat with --force (API: "force": true) to use them as given".
 std::string describe_suspects(const std::vector<SuspectValue>& suspects);
+
+// Thrown when values look like typing mistakes (kind InvalidArgument, field the first suspect's,
+// message describe_suspects): its own type, so a tool can ask "did you mean …?" (the CLI's exit
+// code 6, Python's SuspectInputError) instead of treating it as a bad value.
+class SuspectInputError : public Error {
+ public:
+  explicit SuspectInputError(std::vector<SuspectValue> suspects);
+  const std::vector<SuspectValue>& suspects() const noexcept { return suspects_; }
+
+ private:
+  std::vector<SuspectValue> suspects_;
+};
 
 }  // namespace caliper

@@ -50,4 +50,14 @@ struct MeshMeasurements {
 };
 MeshMeasurements measure_mesh(const Mesh& mesh, const WeightFromVolume& coefficients);
 
+// A person's body given by a user (an OBJ file, arrays), which must be in metres: measure_mesh,
+// refused with Error(OutOfRange) naming `field` when the mesh's height is outside the catalogue's
+// stature range (a mesh in centimetres or millimetres), with the scale that fixes it.
+MeshMeasurements measure_person_mesh(const Mesh& mesh, const WeightFromVolume& coefficients, const std::string& field);
+// The same for a mesh that may have `model`'s topology (its vertex count and faces): then every
+// measurement the model defines, else measure_person_mesh's stature, volume and weight (by the
+// model's volume → weight fit). By canonical name, SI (m, m³, kg). Vertices must be finite and
+// faces in range (the caller's conversion checks them).
+std::map<std::string, double> measure_person(const BodyModel& model, const Mesh& mesh, const std::string& field);
+
 }  // namespace caliper
