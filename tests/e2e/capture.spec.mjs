@@ -458,6 +458,8 @@ try {
   check(await page.evaluate(() => !!window.capture.avatar), 'the avatar is built from the captured values');
   await page.waitForTimeout(500);
   if (screenshots) await bigShot(join(screenshots, 'capture-mirror.png'));
+  const mirrorLink = await page.locator('#open-mirror').getAttribute('href');
+  check(mirrorLink === `/mirror.html?session=${encodeURIComponent(sessionId)}`, 'the page offers the mirror for the session', mirrorLink);
   const link = await page.locator('#open-desktop').getAttribute('href');
   check(link === `/?session=${sessionId}`, 'the page links to the desktop tool', link);
   check(await page.locator('#open-desktop').isVisible(), 'the result buttons show once the session is done');
