@@ -14,7 +14,7 @@ try {
   console.log('SKIP: three is not installed in web/ (run scripts/install-deps.sh)');
   process.exit(process.env.CALIPER_REQUIRE_TOOLS === '1' ? 1 : 77);
 }
-const { BodyDriver, DEFAULTS } = await import(join(root, 'web', 'src', 'embodiment.js'));
+const { BodyDriver, wristInGrip } = await import(join(root, 'web', 'src', 'embodiment.js'));
 
 // SMPL's 24 joints, T-pose, facing +Z, the body's left on +X, metres, feet on y = 0.
 const JOINTS = {
@@ -43,6 +43,10 @@ function check(ok, what, detail = '') {
 }
 
 const IDENTITY = { x: 0, y: 0, z: 0, w: 1 };
+// The grip position that puts the wrist at w when the grip has the identity orientation: the
+// wrist's offset in grip space taken off (the driver's documented constant).
+const W = wristInGrip();
+const gripFor = (w) => ({ x: w[0] - W[0], y: w[1] - W[1], z: w[2] - W[2] });
 // A headset looking along −Z (the user faces −Z, so the avatar's left is the user's left: −X... 
 // the body turns half around: its +Z faces −Z and its left (+X) goes to −X).
 const STAND_EYES = { x: 0, y: JOINTS.head[1] + EYES[1], z: -(JOINTS.head[2] + EYES[2]) };
@@ -98,8 +102,7 @@ function boneLengthsKept(d) {
     const dir = [rng() * 2 - 1, rng() * 1.6 - 0.8, -0.3 - rng()];
     const len = Math.hypot(...dir), r = (0.35 + 0.6 * rng()) * (UPPER_ARM + FOREARM);
     const wrist = dir.map((c, k) => s[k] + (c / len) * r);
-    // Identity grip: the wrist is wristBehindGrip along +Z from the grip.
-    d.setHand(side, p3(wrist[0], wrist[1], wrist[2] - DEFAULTS.wristBehindGrip), IDENTITY);
+    d.setHand(side, gripFor(wrist), IDENTITY);
     run(d, 2);
     worst = Math.max(worst, dist(pos(d, `${side}_wrist`), wrist));
     // Elbow below the shoulder–wrist line and outside it (the user's left is −X).
@@ -127,7 +130,7 @@ function boneLengthsKept(d) {
   for (const factor of [1, 1.0001, 1.5, 10]) {
     const r = factor * (UPPER_ARM + FOREARM);
     const wrist = [s[0] + r * 0.6, s[1] + r * 0.0, s[2] - r * 0.8];
-    d.setHand('right', p3(wrist[0], wrist[1], wrist[2] - DEFAULTS.wristBehindGrip), IDENTITY);
+    d.setHand('right', gripFor(wrist), IDENTITY);
     run(d, 2);
     const w = pos(d, 'right_wrist'), reach = dist(w, s);
     const along = ((w[0] - s[0]) * 0.6 + (w[2] - s[2]) * -0.8) / reach;
@@ -137,7 +140,7 @@ function boneLengthsKept(d) {
   }
   // A target on the shoulder itself (zero distance) and one at the elbow's length.
   for (const r of [0, 0.001, Math.abs(UPPER_ARM - FOREARM)]) {
-    d.setHand('right', p3(s[0] + r, s[1], s[2] - DEFAULTS.wristBehindGrip), IDENTITY);
+    d.setHand('right', gripFor([s[0] + r, s[1], s[2]]), IDENTITY);
     run(d, 2);
     check(allFinite(d) && boneLengthsKept(d) < 1e-5, `target ${r} m from the shoulder: no NaN, bones kept`);
   }
@@ -148,7 +151,7 @@ function boneLengthsKept(d) {
   const d = driver();
   const s0 = (() => { run(d); return pos(d, 'left_shoulder'); })();
   const held = [s0[0] - 0.1, s0[1], s0[2] - 0.4];
-  d.setHand('left', p3(held[0], held[1], held[2] - DEFAULTS.wristBehindGrip), IDENTITY);
+  d.setHand('left', gripFor(held), IDENTITY);
   run(d, 180);     // a controller that appears is eased in
   check(dist(pos(d, 'left_wrist'), held) < 1e-4, 'tracked: the wrist holds the controller', `${(dist(pos(d, 'left_wrist'), held) * 1000).toFixed(3)} mm`);
   d.setHand('left', null, null);
@@ -164,7 +167,7 @@ function boneLengthsKept(d) {
   check(Math.abs(w[2] - s[2]) < 0.1, 'lost: the wrist hangs beside the body, not in front');
   check(jump < 0.03, 'lost: the arm eases down (no jump)', `largest step per frame ${(jump * 100).toFixed(2)} cm`);
   check(allFinite(d), 'lost: no NaN');
-  d.setHand('left', p3(held[0], held[1], held[2] - DEFAULTS.wristBehindGrip), IDENTITY);
+  d.setHand('left', gripFor(held), IDENTITY);
   run(d, 180);
   check(dist(pos(d, 'left_wrist'), held) < 0.005, 'found again: the arm returns to the controller');
 }
@@ -254,6 +257,33 @@ function seeded(seed) {
     t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
     return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
   };
+}
+
+// --bench: the driver's cost per frame (docs/performance.md "Mirror"), both controllers tracked,
+// the head and hands moving; the heap before and after shows whether frames allocate.
+if (process.argv.includes('--bench')) {
+  const d = driver();
+  const frames = 200000;
+  const head = p3(0, STAND_EYES.y, STAND_EYES.z), l = p3(-0.3, 1.2, -0.4), r = p3(0.3, 1.2, -0.4);
+  const turn = { x: 0, y: 0, z: 0, w: 1 };
+  const step = (i) => {
+    head.x = 0.1 * Math.sin(i * 0.01);
+    turn.y = 0.3 * Math.sin(i * 0.003); turn.w = Math.sqrt(1 - turn.y * turn.y);
+    l.y = 1.2 + 0.1 * Math.sin(i * 0.02); r.z = -0.4 + 0.1 * Math.cos(i * 0.02);
+    d.setHead(head, turn); d.setHand('left', l, IDENTITY); d.setHand('right', r, IDENTITY);
+    d.update(1 / 90);
+  };
+  for (let i = 0; i < 20000; ++i) step(i);    // warm up (JIT)
+  const { PerformanceObserver } = await import('node:perf_hooks');
+  let collections = 0;
+  const observer = new PerformanceObserver((list) => { collections += list.getEntries().length; });
+  observer.observe({ entryTypes: ['gc'] });
+  const t0 = process.hrtime.bigint();
+  for (let i = 0; i < frames; ++i) step(i);
+  const ns = Number(process.hrtime.bigint() - t0) / frames;
+  await new Promise((r) => setTimeout(r, 50));
+  observer.disconnect();
+  console.log(`bench: ${(ns / 1000).toFixed(2)} µs per update over ${frames} frames (24 joints); ${collections} garbage collections meanwhile`);
 }
 
 console.log(failures ? `${failures} check(s) failed` : 'all checks passed');

@@ -25,8 +25,9 @@
 import { Quaternion, Vector3 } from 'three';
 
 export const DEFAULTS = Object.freeze({
-  // The wrist joint sits this far behind the grip's origin along the grip's +Z (WebXR grip space:
-  // −Z points out of the fist along the controller, the origin is in the palm).
+  // The wrist joint sits this far from the grip's origin along the grip's +Y (WebXR grip space:
+  // the origin in the middle of the fist, −Z along the held rod towards the thumb, +X out of the
+  // back of the right hand or the palm of the left, so +Y points from the fingers to the wrist).
   wristBehindGrip: 0.07,
   torsoYawLag: 0.25,         // s: time constant of the pelvis following the head's yaw
   maxHeadTwist: Math.PI * 50 / 180,   // the torso is pulled along past this head–torso yaw
@@ -40,6 +41,9 @@ export const DEFAULTS = Object.freeze({
   reachMargin: 1e-4,         // the two-bone chains stop this fraction short of full stretch
 });
 
+// The wrist joint in grip space, metres (for tests that place controllers for a wrist).
+export const wristInGrip = (options = DEFAULTS) => [0, options.wristBehindGrip, 0];
+
 // SMPL joint names the driver needs (the SMPL-H finger joints and any others follow their parents).
 const NEEDED = ['pelvis', 'spine1', 'spine2', 'spine3', 'neck', 'head', 'left_collar', 'right_collar',
   'left_shoulder', 'right_shoulder', 'left_elbow', 'right_elbow', 'left_wrist', 'right_wrist',
@@ -48,12 +52,13 @@ const NEEDED = ['pelvis', 'spine1', 'spine2', 'spine3', 'neck', 'head', 'left_co
 const SIDES = ['left', 'right'];
 const TORSO = ['pelvis', 'spine1', 'spine2', 'spine3', 'left_collar', 'right_collar'];
 const HALF_TURN_Y = new Quaternion(0, 1, 0, 0);    // the body faces +Z, an XR viewer looks along −Z
-// Grip frame → hand rest frame: holding a controller, the fingers of the T-pose hand (±X) point
-// along the grip's −Z, the palm (−Y in the rest pose) faces the body's midline and the thumb (+Z)
-// points up. Columns of the rotation: where the rest hand's X, Y and Z go in grip space.
+// Rest hand → grip frame. In the T-pose a hand's fingers point out along ±X, its palm faces down
+// (−Y) and its thumb forward (+Z); holding a controller, the fingers point along the grip's −Y
+// (from the wrist round the rod), the palm faces the rod (−X for the right hand, +X for the
+// left) and the thumb lies along −Z. Columns: where the rest hand's X, Y and Z go in grip space.
 const GRIP_TO_HAND = {
-  right: new Quaternion().setFromRotationMatrix(rotation3([0, 0, 1], [1, 0, 0], [0, 1, 0])),
-  left: new Quaternion().setFromRotationMatrix(rotation3([0, 0, -1], [-1, 0, 0], [0, 1, 0])),
+  right: new Quaternion().setFromRotationMatrix(rotation3([0, 1, 0], [1, 0, 0], [0, 0, -1])),
+  left: new Quaternion().setFromRotationMatrix(rotation3([0, -1, 0], [-1, 0, 0], [0, 0, -1])),
 };
 
 function rotation3(x, y, z) {
@@ -134,6 +139,7 @@ export class BodyDriver {
     this.v = Array.from({ length: 10 }, () => new Vector3());
     this.limbScratch = Array.from({ length: 5 }, () => new Vector3());
     this.yawQ = new Quaternion();
+    this.wristOffset = new Vector3().fromArray(wristInGrip(this.options));
     this.headQ = new Quaternion();
   }
 
@@ -172,7 +178,7 @@ export class BodyDriver {
   // Where the wrist joint goes for a grip pose (the test checks the avatar against this).
   wristTarget(side, out) {
     const hand = this.hands[side];
-    return out.set(0, 0, this.options.wristBehindGrip).applyQuaternion(hand.orientation).add(hand.position);
+    return out.copy(this.wristOffset).applyQuaternion(hand.orientation).add(hand.position);
   }
 
   jointIndex(name) { return this.index[name] ?? -1; }

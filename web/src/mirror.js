@@ -29,9 +29,9 @@ const state = {
   inXR: false,
   xrFrames: 0,
   frames: 0,
-  frameMs: new Float64Array(600),   // ring of per-frame CPU times: IK + skinning + both renders
+  frameMs: new Float64Array(600),   // ring of per-frame times of the callback: IK, bones, both renders' submission
+  frameInterval: new Float64Array(600),   // ring of times between frames (everything, the rasterizer too)
   localTasks,
-  startLocalTask,
 };
 window.mirror = state;
 
@@ -65,19 +65,23 @@ scene.add(new THREE.HemisphereLight(0xffffff, 0x5a6470, 1.7));
 const keyLight = new THREE.DirectionalLight(0xffffff, 1.5);
 keyLight.position.set(0.6, 3, 1.5);
 scene.add(keyLight);
-const floor = new THREE.Mesh(new THREE.CircleGeometry(4, 48), new THREE.MeshStandardMaterial({ color: 0x4a5360, roughness: 0.95 }));
+const MIRROR = { width: 1.3, height: 2.1, distance: 1.2 };
+// The room: a floor from the mirror's wall back to the wall behind the user (a floor reaching
+// behind the mirror was drawn over the mirror's lower half in SwiftShader).
+const ROOM_BACK = 2.5;
+const floor = new THREE.Mesh(new THREE.PlaneGeometry(8, MIRROR.distance + ROOM_BACK), new THREE.MeshStandardMaterial({ color: 0x4a5360, roughness: 0.95 }));
 floor.rotation.x = -Math.PI / 2;
+floor.position.z = (ROOM_BACK - MIRROR.distance) / 2;
 scene.add(floor);
 const grid = new THREE.GridHelper(8, 16, 0x7d8894, 0x5f6975);   // 50 cm cells: scale cues in the mirror
 grid.position.y = 0.002;
 scene.add(grid);
 // A back wall behind the user, so the mirror shows a room and not the void.
 const wall = new THREE.Mesh(new THREE.PlaneGeometry(8, 3), new THREE.MeshStandardMaterial({ color: 0x6b7480, roughness: 1 }));
-wall.position.set(0, 1.5, 2.5);
+wall.position.set(0, 1.5, ROOM_BACK);
 wall.rotation.y = Math.PI;
 scene.add(wall);
 
-const MIRROR = { width: 1.3, height: 2.1, distance: 1.4 };
 const mirror = new Reflector(new THREE.PlaneGeometry(MIRROR.width, MIRROR.height), {
   textureWidth: 1024, textureHeight: 1024 * (MIRROR.height / MIRROR.width), color: 0xc8ccd0,
 });
@@ -94,8 +98,10 @@ const bodyMaterial = new THREE.MeshStandardMaterial({ color: 0xcdbba8, roughness
 const headMaterial = bodyMaterial.clone();
 headMaterial.visible = false;
 const reflect = mirror.onBeforeRender;
+state.headDrawn = { firstPerson: null, mirror: null };   // as last rendered (for the e2e test)
 mirror.onBeforeRender = function (...args) {
   headMaterial.visible = true;
+  state.headDrawn.mirror = headMaterial.visible;
   reflect.apply(this, args);
   headMaterial.visible = false;
 };
@@ -247,6 +253,19 @@ state.jointWorld = (name) => {
   return avatar.bones[i].getWorldPosition(new THREE.Vector3()).toArray();
 };
 
+state.avatarMesh = () => avatar?.mesh ?? null;
+// The rest body's width across the waist (60 % of its height), metres: how a weight change shows.
+state.waistWidth = () => {
+  const v = avatar.vertices;
+  let top = -Infinity;
+  for (let i = 1; i < v.length; i += 3) top = Math.max(top, v[i]);
+  let lo = Infinity, hi = -Infinity;
+  for (let i = 0; i < v.length; i += 3) {
+    if (Math.abs(v[i + 1] - 0.6 * top) < 0.01 && Math.abs(v[i]) < 0.25) { lo = Math.min(lo, v[i]); hi = Math.max(hi, v[i]); }
+  }
+  return hi - lo;
+};
+
 // ---------------------------------------------------------------------------------------------
 // The frame: poses in, IK, task input, render. The same loop runs on the page (a standing user
 // looking at the mirror) and in the headset.
@@ -259,6 +278,7 @@ let stickY = 0;        // this frame's thumbstick (up = −1), either hand
 function frame(time, xrFrame) {
   const t0 = performance.now();
   const dt = lastTime === null ? 1 / 72 : (time - lastTime) / 1000;
+  state.frameInterval[state.frames % state.frameInterval.length] = dt * 1000;
   lastTime = time;
   stickY = 0;
   if (avatar) {
@@ -276,6 +296,7 @@ function frame(time, xrFrame) {
     avatar.driver.update(dt);
     applyPose();
   }
+  state.headDrawn.firstPerson = headMaterial.visible;
   renderer.render(scene, camera);
   state.frameMs[state.frames % state.frameMs.length] = performance.now() - t0;
   state.frames += 1;
@@ -362,6 +383,8 @@ async function pollTask() {
   if ((t?.id ?? null) !== (state.task?.id ?? null)) startTask(t);
 }
 setInterval(pollTask, 1000);
+// The page's own stand-in task list (mirror-body.js), for a server without the task endpoints.
+state.startLocalTask = (task) => { const t = startLocalTask(task); pollTask(); return t; };
 
 function startTask(t) {
   state.task = t && t.state === 'running' ? t : null;
