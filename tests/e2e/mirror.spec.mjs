@@ -262,6 +262,8 @@ try {
   const cb = stats(await ring('frameMs')), interval = stats(await ring('frameInterval'));
   console.log(`frame callback (IK + bones + draw submission of both renders) over ${cb.n} XR frames: median ${cb.median.toFixed(2)} ms, p99 ${cb.p99.toFixed(2)} ms`);
   console.log(`frame interval (everything, SwiftShader rasterizing on the CPU, 480×360): median ${interval.median.toFixed(1)} ms, p99 ${interval.p99.toFixed(1)} ms`);
+  const drawn = await page.evaluate(() => window.mirror.drawn);
+  console.log(`per frame (one view, both passes): ${drawn.calls} draw calls, ${drawn.triangles} triangles`);
   check(cb.n >= Math.min(frameCount, 600) && Number.isFinite(cb.median), 'frame times measured');
 
   check(pageErrors.length === 0, 'no errors in the page', pageErrors.slice(0, 3).join(' | '));

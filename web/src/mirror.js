@@ -56,6 +56,7 @@ renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
 renderer.outputColorSpace = THREE.SRGBColorSpace;
 renderer.xr.enabled = true;
 renderer.xr.setReferenceSpaceType('local-floor');
+renderer.info.autoReset = false;     // counted per frame over both passes (the mirror renders inside the frame)
 $('preview-host').appendChild(renderer.domElement);
 
 const scene = new THREE.Scene();
@@ -297,7 +298,9 @@ function frame(time, xrFrame) {
     applyPose();
   }
   state.headDrawn.firstPerson = headMaterial.visible;
+  renderer.info.reset();
   renderer.render(scene, camera);
+  state.drawn = { calls: renderer.info.render.calls, triangles: renderer.info.render.triangles };  // both passes
   state.frameMs[state.frames % state.frameMs.length] = performance.now() - t0;
   state.frames += 1;
 }
