@@ -107,7 +107,10 @@ export function fromContract(r) {
 // Fallback: one rigged GLB per weight change, built by the server's estimator with the weight
 // changed and every other value kept (the lengths); only those weights the server accepts.
 async function modelFromExports(sex, measurements, weights) {
-  const given = Object.fromEntries(Object.entries(measurements).filter(([, v]) => v !== null && v !== undefined));
+  // Only the names the estimator takes (a session's set can hold others, e.g. the floor).
+  const { measurements: catalogue } = await api('/api/measurements');
+  const known = new Set(catalogue.map((m) => m.name));
+  const given = Object.fromEntries(Object.entries(measurements).filter(([n, v]) => known.has(n) && v !== null && v !== undefined));
   const base = given.weight;
   const grid = Number.isFinite(base) ? weights : [0];
   const bodies = await Promise.all(grid.map(async (pct) => {
