@@ -21,7 +21,7 @@ import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
 import {
   caliper, screenshots, option, webRequire, skip, loadChromium, prepare, check, fail, finish, startServer,
-  launchBrowser,
+  launchBrowser, placeTipSource,
 } from './harness.mjs';
 
 const givenBase = option('--base', null);
@@ -205,19 +205,7 @@ try {
       device.position.set(0, 1.62, 0.45);
       device.quaternion.set(...${JSON.stringify(axisAngle([1, 0, 0], -0.3))});
       window.__xr = device;
-      const config = IWER.metaQuest3.controllerConfig;
-      // Puts a controller so that its tip (grip pose · offset) is at target, with orientation q.
-      // iwer poses the target-ray space; grip = target ray · gripOffsetMatrix (column-major).
-      window.__placeTip = (hand, target, q, offset) => {
-        const G = config.layout[hand].gripOffsetMatrix;
-        const v = [0, 1, 2].map((r) => G[12 + r] + G[r] * offset[0] + G[4 + r] * offset[1] + G[8 + r] * offset[2]);
-        const [x, y, z, w] = q;
-        const t = [2 * (y * v[2] - z * v[1]), 2 * (z * v[0] - x * v[2]), 2 * (x * v[1] - y * v[0])];
-        const rv = [v[0] + w * t[0] + (y * t[2] - z * t[1]), v[1] + w * t[1] + (z * t[0] - x * t[2]), v[2] + w * t[2] + (x * t[1] - y * t[0])];
-        const c = device.controllers[hand];
-        c.position.set(target[0] - rv[0], target[1] - rv[1], target[2] - rv[2]);
-        c.quaternion.set(x, y, z, w);
-      };
+      ${placeTipSource}
       const frame = () => new Promise((r) => requestAnimationFrame(() => r()));
       // Resolves after the page has handled one more XR frame.
       const xrFrame = async () => { const n = window.capture.xrFrames ?? 0; while ((window.capture.xrFrames ?? 0) <= n) await frame(); };
@@ -458,6 +446,8 @@ try {
   check(await page.evaluate(() => !!window.capture.avatar), 'the avatar is built from the captured values');
   await page.waitForTimeout(500);
   if (screenshots) await bigShot(join(screenshots, 'capture-mirror.png'));
+  const mirrorLink = await page.locator('#open-mirror').getAttribute('href');
+  check(mirrorLink === `/mirror.html?session=${encodeURIComponent(sessionId)}`, 'the page offers the mirror for the session', mirrorLink);
   const link = await page.locator('#open-desktop').getAttribute('href');
   check(link === `/?session=${sessionId}`, 'the page links to the desktop tool', link);
   check(await page.locator('#open-desktop').isVisible(), 'the result buttons show once the session is done');

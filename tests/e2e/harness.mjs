@@ -21,7 +21,12 @@ export function option(name, fallback) {
 export const caliper = resolve(option('--caliper', join(root, 'build', 'bin', 'caliper')));
 export const screenshots = option('--screenshots', null);
 
+// A missing tool skips the test (77), or fails it when CALIPER_REQUIRE_TOOLS=1 (the release suite).
 export function skip(why) {
+  if (process.env.CALIPER_REQUIRE_TOOLS === '1') {
+    console.log(`FAIL: ${why} (CALIPER_REQUIRE_TOOLS=1)`);
+    process.exit(1);
+  }
   console.log(`SKIP: ${why}`);
   process.exit(77);
 }
@@ -103,3 +108,20 @@ export function launchBrowser(chromium, extraArgs = []) {
            ...extraArgs],
   });
 }
+
+// Page-side source (inside an iwer init script that has `device`, an IWER.XRDevice for the Quest 3):
+// window.__placeTip(hand, target, q, offset) puts a controller so that the point `offset` of its
+// grip space (a handle's tip, a wrist) is at `target`, the target ray turned by quaternion q.
+// iwer poses the target-ray space; grip = target ray · gripOffsetMatrix (column-major).
+export const placeTipSource = `
+      const config = IWER.metaQuest3.controllerConfig;
+      window.__placeTip = (hand, target, q, offset) => {
+        const G = config.layout[hand].gripOffsetMatrix;
+        const v = [0, 1, 2].map((r) => G[12 + r] + G[r] * offset[0] + G[4 + r] * offset[1] + G[8 + r] * offset[2]);
+        const [x, y, z, w] = q;
+        const t = [2 * (y * v[2] - z * v[1]), 2 * (z * v[0] - x * v[2]), 2 * (x * v[1] - y * v[0])];
+        const rv = [v[0] + w * t[0] + (y * t[2] - z * t[1]), v[1] + w * t[1] + (z * t[0] - x * t[2]), v[2] + w * t[2] + (x * t[1] - y * t[0])];
+        const c = device.controllers[hand];
+        c.position.set(target[0] - rv[0], target[1] - rv[1], target[2] - rv[2]);
+        c.quaternion.set(x, y, z, w);
+      };`;

@@ -327,8 +327,9 @@ function drawPanel() {
     text('Hold a trigger for 1 s to save, or use the page.', left, 320, '30px system-ui, sans-serif', '#2d6a88');
   } else if (s.state === 'done') {
     text('Done — your avatar is in front of you', left, 84, '600 44px system-ui, sans-serif');
+    text('Step into it: exit VR, then Enter mirror on the page', left, 128, '600 28px system-ui, sans-serif', '#2d6a88');
     const ms = s.measurement_set ?? {};
-    let y = 150;
+    let y = 180;
     for (const [name, v] of Object.entries(ms)) {
       if (y > H - 110) break;
       text(`${friendly(name)}`, left, y, '30px system-ui, sans-serif', '#66717e');
@@ -703,6 +704,7 @@ function renderSession() {
   $('result-links').hidden = !(finished && measured);
   drawHeadsetQr();
   $('open-desktop').href = `/?session=${encodeURIComponent(s.id)}`;
+  $('open-mirror').href = `/mirror.html?session=${encodeURIComponent(s.id)}`;
   $('export-json').href = `/api/sessions/${encodeURIComponent(s.id)}/export?format=json`;
   $('export-csv').href = `/api/sessions/${encodeURIComponent(s.id)}/export?format=csv`;
   document.body.dataset.state = s.state;
