@@ -286,9 +286,11 @@ std::map<std::string, double> noise_sd_from_edge(const std::map<std::string, dou
   std::map<std::string, double> si;
   for (const auto& [name, sd] : edge_sd) {
     const MeasurementInfo* info = find_measurement_info(name);
-    if (!info) throw Error(ErrorKind::InvalidArgument, "noise SD of an unknown measurement '" + name + "'", name);
+    // The field is the SD's, not the measurement's: a client must not be told its stature is wrong.
+    if (!info) throw Error(ErrorKind::InvalidArgument, "noise SD of an unknown measurement '" + name + "'", "noise_sd." + name);
     if (!std::isfinite(sd) || sd <= 0 || sd > 50)
-      throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be in (0, 50] " + edge_unit(*info), info->name);
+      throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be in (0, 50] " + edge_unit(*info),
+                  "noise_sd." + info->name);
     si[info->name] = info->unit == Unit::Kilogram ? sd : sd / 100.0;
   }
   return si;

@@ -130,12 +130,9 @@ struct BodyRequest {
   std::vector<double> weights;  // /api/mirror-body: the weight changes, percent (mirror_weights)
   std::string model;
   Sex sex = Sex::Female;
-  std::string regressor = "auto";
-  std::map<std::string, double> edge;  // canonical name → cm / kg
+  EdgeAvatarRequest edge;  // as the client sent it: canonical name → cm / kg, estimator, noise
   bool include_mesh = true;
   std::string pose = "t";                     // /api/avatar's mesh: t (the rest pose), a or stride
-  std::string noise = "exact";                // auto / map: exact (values as given), self or other
-  std::map<std::string, double> noise_sd_si;  // auto / map: per-measurement SD overrides, SI
   AvatarFileOptions file;  // exports: bone names, morph targets
 };
 
@@ -168,23 +165,21 @@ std::map<std::string, double> parse_measurements(const ordered_json& m) {
   return edge;
 }
 
-// Values that look like a typing mistake (swapped, wrong unit) are a 400 "suspect_values" with
-// what was probably meant, unless the client says "force": true; then every value must be in
-// its accepted range.
-void check_measurements(const std::map<std::string, double>& edge, bool force) {
-  if (!force) {
-    const std::vector<SuspectValue> suspects = suspect_input_mistakes(edge);
-    if (!suspects.empty()) {
-      ordered_json list = ordered_json::array();
-      for (const auto& s : suspects)
-        list.push_back({{"field", s.field}, {"given", s.given}, {"suggested", round_to(s.suggested, 0.1)}, {"reason", s.reason}});
-      ordered_json suggested = ordered_json::object();
-      for (const auto& [name, v] : apply_suggestions(edge, suspects)) suggested[name] = round_to(v, 0.1);
-      throw RequestError{400, describe_suspects(suspects), suspects.front().field, "suspect_values",
-                         {{"suspects", list}, {"suggested_measurements", suggested}}};
-    }
+// The library's one way from edge values to an avatar request (the CLI's and Python's too): it
+// checks every value and noise SD, naming the field and the range. Values that look like a typing
+// mistake (swapped, wrong unit) become a 400 "suspect_values" with what was probably meant,
+// unless the client says "force": true.
+AvatarRequest checked_request(const EdgeAvatarRequest& edge) {
+  try {
+    return avatar_request_from_edge(edge);
+  } catch (const SuspectInputError& e) {
+    ordered_json list = ordered_json::array();
+    for (const auto& s : e.suspects())
+      list.push_back({{"field", s.field}, {"given", s.given}, {"suggested", round_to(s.suggested, 0.1)}, {"reason", s.reason}});
+    ordered_json suggested = ordered_json::object();
+    for (const auto& [name, v] : apply_suggestions(edge.measurements, e.suspects())) suggested[name] = round_to(v, 0.1);
+    throw RequestError{400, e.what(), e.field(), "suspect_values", {{"suspects", list}, {"suggested_measurements", suggested}}};
   }
-  for (const auto& [name, v] : edge) edge_to_si(*find_measurement_info(name), v);  // names the field and the range
 }
 
 // The virtual mirror's weight changes (docs/api.md "Mirror bodies"): at most 21, each in the
@@ -241,12 +236,12 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
   BodyRequest r;
   r.sex = parse_sex(string_field(j, "sex", "female"));
   r.model = string_field(j, "model", default_model);
-  r.regressor = string_field(j, "regressor", "auto");
-  if (r.regressor.empty()) r.regressor = "auto";
+  r.edge.estimator = string_field(j, "regressor", "auto");
+  if (r.edge.estimator.empty()) r.edge.estimator = "auto";
   if (!j.contains("measurements")) bad("measurements is required, e.g. {\"stature\": 165, \"weight\": 60}", "measurements");
-  r.edge = parse_measurements(j["measurements"]);
+  r.edge.measurements = parse_measurements(j["measurements"]);
   if (j.contains("force") && !j["force"].is_boolean()) bad("force must be true or false", "force");
-  check_measurements(r.edge, j.value("force", false));
+  r.edge.force = j.value("force", false);
   if (j.contains("mesh")) {
     if (!j["mesh"].is_boolean()) bad("mesh must be true or false", "mesh");
     r.include_mesh = j["mesh"].get<bool>();
@@ -272,18 +267,16 @@ BodyRequest parse_body_request(const std::string& body, const std::string& defau
     }
     r.weights = mirror_weights(w);
   }
-  r.noise = lower(string_field(j, "noise", "exact"));
-  if (r.noise != "exact" && r.noise != "self" && r.noise != "other") bad("noise must be exact, self or other", "noise");
+  r.edge.noise = lower(string_field(j, "noise", "exact"));
+  if (r.edge.noise != "exact" && r.edge.noise != "self" && r.edge.noise != "other") bad("noise must be exact, self or other", "noise");
   if (j.contains("noise_sd") && !j["noise_sd"].is_null()) {
     if (!j["noise_sd"].is_object()) bad("noise_sd must be an object of name: SD (cm or kg)", "noise_sd");
     for (const auto& [name, value] : j["noise_sd"].items()) {
-      const MeasurementInfo* info = find_measurement_info(name);
-      if (!info) bad("unknown measurement '" + name + "' in noise_sd", name);
-      if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() <= 0 || value.get<double>() > 50)
-        throw Error(ErrorKind::OutOfRange, "the noise SD of " + info->name + " must be a number in (0, 50] " + edge_unit(*info), "noise_sd." + info->name);
-      r.noise_sd_si[info->name] = info->unit == Unit::Kilogram ? value.get<double>() : value.get<double>() / 100.0;
+      if (!value.is_number()) bad("the noise SD of " + name + " must be a number (cm or kg)", "noise_sd." + name);
+      r.edge.noise_sd[name] = value.get<double>();
     }
   }
+  checked_request(r.edge);  // every value now, before a model is loaded
   return r;
 }
 
@@ -465,12 +458,7 @@ struct Api::Impl {
     Built b;
     b.entry = entry(r.model, r.sex);
     const auto t0 = std::chrono::steady_clock::now();
-    AvatarRequest request;
-    request.measurements = measurements_from_edge(r.edge);
-    request.regressor = r.regressor;
-    request.noise = r.noise;
-    request.noise_sd = r.noise_sd_si;
-    b.avatar = b.entry->builder->build(request);
+    b.avatar = b.entry->builder->build(checked_request(r.edge));
     b.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return b;
   }
@@ -645,8 +633,9 @@ struct Api::Impl {
     BodyRequest r;
     r.model = options.default_model;
     r.sex = *set.sex;
-    r.edge = set.edge;
-    r.noise = set.measured_by.value_or("exact");  // who measured, as `caliper avatar --measurements` weighs it
+    r.edge.measurements = set.edge;
+    r.edge.noise = set.measured_by.value_or("exact");  // who measured, as `caliper avatar --measurements` weighs it
+    r.edge.force = true;  // measured by the headset, not typed
     auto w = req.query.find("weights");
     r.weights = mirror_weights(w == req.query.end() ? default_mirror_weights() : parse_weight_list(w->second));
     return mirror_bodies(r);
@@ -669,7 +658,7 @@ struct Api::Impl {
     if (const std::string model = string_field(j, "model", ""); !model.empty()) set.model = model;
     if (!j.contains("measurements")) bad("measurements is required", "measurements");
     set.edge = parse_measurements(j["measurements"]);
-    check_measurements(set.edge, true);  // a set is saved as typed; only the ranges apply
+    for (const auto& [name, v] : set.edge) edge_to_si(*find_measurement_info(name), v);  // saved as typed; only the ranges apply
     ApiResponse out;
     if (format == "csv") {
       out.content_type = "text/csv; charset=utf-8";

@@ -121,7 +121,7 @@ def test_noise_sds_and_a_real_to_virtual_map_give_the_clis_avatar(tmp_path):
     assert not np.array_equal(a.vertices, plain.vertices)
     with pytest.raises(caliper.OutOfRangeError) as info:
         caliper.build_avatar(**PERSON, noise_sd={"stature": 0})
-    assert info.value.field == "stature"
+    assert info.value.field == "noise_sd.stature"
     with pytest.raises(caliper.IoError):
         caliper.build_avatar(**PERSON, real_to_virtual=str(tmp_path / "none.json"))
 

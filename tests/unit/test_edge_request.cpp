@@ -77,10 +77,10 @@ TEST(EdgeRequest, BadValuesNameTheirField) {
     r.noise_sd = {{"weight", sd}};
     const Error e = thrown<Error>(r);
     EXPECT_EQ(e.kind(), ErrorKind::OutOfRange) << sd;
-    EXPECT_EQ(e.field(), "weight") << sd;
+    EXPECT_EQ(e.field(), "noise_sd.weight") << sd;
   }
   r.noise_sd = {{"elbow", 1}};
-  EXPECT_EQ(thrown<Error>(r).field(), "elbow");
+  EXPECT_EQ(thrown<Error>(r).field(), "noise_sd.elbow");
 }
 
 // A closed box standing on y = 0, faces counter-clockwise seen from outside.
