@@ -55,7 +55,7 @@ void BM_MeasurementsToGlb(benchmark::State& state) {
 }
 BENCHMARK(BM_MeasurementsToGlb)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
-// The default estimator, auto (issue 14): Levenberg–Marquardt on exact Jacobians (vertex
+// The default estimator, auto: Levenberg–Marquardt on exact Jacobians (vertex
 // gradients times S) on the six inputs, kept inside the population. Arg 0: β and its covariance
 // only; 1: also the SD of all 43 measurements and of every vertex, and the avatar measured (what
 // `caliper avatar` and the server do). Second arg: 0 "exact" noise (the default), 1 "self".

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates docs/evaluation.md, its plots and raw JSON from the ANSUR II development data:
 # caliper eval per sex and noise setting (none, self, other), plus the synthetic surface study;
-# every run also evaluates the default estimator `auto` (issues 7, 14) against the linear limit;
+# every run also evaluates the default estimator `auto` against the linear limit;
 # tools/eval-map-section.mjs adds its self-noise section (uncertainty calibration) to the page.
 # Usage: scripts/evaluate.sh [ANSUR_DIR]   (default ../shared/data/ansur2)
 set -euo pipefail

@@ -98,7 +98,7 @@ std::shared_ptr<const Regressor> AvatarBuilder::regressor(const std::string& nam
 }
 
 Avatar AvatarBuilder::build_map(const AvatarRequest& request) const {
-  // The noise-aware estimator (issue 7): every given measurement the model can measure is an input.
+  // The noise-aware estimator: every given measurement the model can measure is an input.
   MapOptions options;
   options.noise = parse_noise_setting(request.noise);
   options.measurement_uncertainty = request.measure_avatar;
@@ -184,7 +184,7 @@ Avatar AvatarBuilder::build(const AvatarRequest& request) const {
   std::vector<std::string> inputs;
   std::string upper = key;
   for (auto& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
-  // "auto", the default, is the noise-aware estimator over whatever was given (issue 14); the
+  // "auto", the default, is the noise-aware estimator over whatever was given; the
   // paper's presets stay selectable by name.
   if (upper == "MAP" || upper == "AUTO") return build_map(request);
   if (upper.size() == 2 && upper[0] == 'R') {

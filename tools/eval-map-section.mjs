@@ -1,4 +1,4 @@
-// Adds the "noise-aware estimator" section (issue 7) to docs/evaluation.md from the JSON of
+// Adds the "noise-aware estimator" section to docs/evaluation.md from the JSON of
 // `caliper eval --noise self --regressor …,auto` (scripts/evaluate.sh writes DIR/<sex>-self.json).
 // The section goes before "## How this differs from the paper" (or at the end), between markers,
 // so running this twice replaces it.

@@ -12,7 +12,7 @@ const R = ['R2', 'R4', 'R5', 'R6', 'auto'];
 const heldOut = ['chestcircumference', 'waistcircumference', 'buttockcircumference', 'thighcircumference',
   'calfcircumference', 'biacromialbreadth', 'chestbreadth', 'chestdepth', 'waistbreadth', 'waistdepth',
   'acromialheight', 'waistheightomphalion'];
-// The linear limit of each method (`caliper eval`, issue 14): least squares from the method's own
+// The linear limit of each method (`caliper eval`): least squares from the method's own
 // inputs straight to each column, cross-validated over the same subjects. auto's uses all six.
 const linearOf = (d, c) => d.regressors.auto?.linear_limit?.[c]?.mae_cm;
 const f = (x, d = 2) => (x === undefined || x === null ? '–' : Number(x).toFixed(d));
@@ -60,7 +60,7 @@ p('Caliper inputs (`stature`, `weightkg`, `span`, `crotchheight`, `hipbreadth`, 
 p('`acromionradialelength + radialestylionlength`), by each regressor, then measured with Caliper\'s own');
 p('measurement code and compared with what ANSUR\'s measurers found on the same person.');
 p();
-// Issue 14's targets for the default estimator, measured here.
+// The targets for the default estimator, measured here.
 p('## The default estimator at a glance');
 p();
 p('`auto` against the linear limit from the same six inputs (median and worst over the twelve held-out');

@@ -1,4 +1,4 @@
-// Capture endpoints (issue 6; docs/api.md "Capture sessions"): sessions created by a desktop or a
+// Capture endpoints (docs/api.md "Capture sessions"): sessions created by a desktop or a
 // headset page, fed with WebXR controller samples, undone/redone, completed with sex and weight,
 // exported as measurement sets. Every write, and every read of a session's measurements from
 // another machine than the server's, needs the session's pairing code (X-Caliper-Pairing); each

@@ -22,7 +22,7 @@ std::string make_pairing_verifier(const std::string& code, int iterations = kPai
 enum class VerifierMatch { Match, Mismatch, Unsupported };
 // Recomputes the key from `code` and the verifier's salt and iterations; compares in constant
 // time. Unsupported: not a verifier in the format above (e.g. the salted SHA-256 of Caliper
-// before issue 15, "<16 hex>$<64 hex>"), or its iteration count is out of range.
+// before schema 2, "<16 hex>$<64 hex>"), or its iteration count is out of range.
 VerifierMatch match_pairing_verifier(const std::string& verifier, const std::string& code);
 
 // n bytes from OpenSSL's CSPRNG as 2n lower-case hex digits; throws Error(Io) if it fails.

@@ -16,7 +16,7 @@ namespace caliper::capture {
 namespace {
 
 constexpr int kApplicationId = 0x43616C69;  // "Cali"
-// 2 (issue 15): sessions.pairing_failures, wrong pairing codes since the code was issued;
+// 2: sessions.pairing_failures, wrong pairing codes since the code was issued;
 // pairing_hash holds a PBKDF2 verifier. Version 1 files are migrated when opened (their SHA-256
 // verifiers stay and are refused at pairing until the experimenter re-issues a code).
 // 3: body_image_tasks, the virtual mirror's tasks and their answers (capture/body_image_task.h);

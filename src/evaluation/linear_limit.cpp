@@ -1,4 +1,4 @@
-// Least-squares yardstick for the held-out columns (issue 14; method in the header).
+// Least-squares yardstick for the held-out columns (method in the header).
 #include "caliper/evaluation/linear_limit.h"
 
 #include <Eigen/QR>

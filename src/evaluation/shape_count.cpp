@@ -1,4 +1,4 @@
-// Held-out validation of the number of shape directions K (issue 14). Method in the header.
+// Held-out validation of the number of shape directions K. Method in the header.
 #include "caliper/evaluation/shape_count.h"
 
 #include <Eigen/Dense>

@@ -1,4 +1,4 @@
-// A MakeHuman body for given sliders, and its T-pose in Caliper's frame (issue 8).
+// A MakeHuman body for given sliders, and its T-pose in Caliper's frame.
 // Morphing: assets README (body = base + Σ weight·delta). Posing: linear blend skinning with the
 // cmu_mb weights, each arm bone rotated by the shortest rotation onto ±X (our own T-pose).
 #include "caliper/makehuman/body.h"

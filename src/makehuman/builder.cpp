@@ -1,4 +1,4 @@
-// The MakeHuman body model (issue 8): sliders fitted per ANSUR II subject, PCA of the fitted
+// The MakeHuman body model: sliders fitted per ANSUR II subject, PCA of the fitted
 // bodies (shared with the built-in body, mannequin/population.h), joint regressor, volume →
 // weight (paper §3.4.2 redone on ANSUR). The fit is a damped Gauss–Newton over the sliders with
 // a Broyden-updated Jacobian (Broyden 1965): one finite-difference Jacobian per gender, then one

@@ -1,4 +1,4 @@
-// Landmarks on MakeHuman's hm08 body, chosen by geometry (issue 8). Anthropometric meanings
+// Landmarks on MakeHuman's hm08 body, chosen by geometry. Anthropometric meanings
 // follow ANSUR II's definitions (Gordon et al. 2014); the rules are ours. All rules run on the
 // reference body (default sliders, T-pose, feet on y = 0, facing +Z, +X = the body's left).
 #include "caliper/makehuman/landmarks.h"

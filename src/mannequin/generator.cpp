@@ -1,4 +1,4 @@
-// The built-in body generator (issue 3): ANSUR II dimensions → a closed fixed-topology mesh in a
+// The built-in body generator: ANSUR II dimensions → a closed fixed-topology mesh in a
 // T-pose. Construction: lofted rings. The torso, neck and head are one stack of horizontal
 // rings (y = const) closed by a pole at the vertex; each leg is a stack of horizontal rings
 // ending in a foot whose rings morph into the footprint and whose sole is zipped flat on y = 0;
@@ -1804,7 +1804,7 @@ void fair(std::vector<Vec3>& v) {
   for (size_t i = 0; i < f.left.size(); ++i) v[static_cast<size_t>(f.right[i])] = mirror(v[static_cast<size_t>(f.left[i])]);
 }
 
-// ---- Relief: anatomy drawn on the lofted surface (issue 13) -------------------------------
+// ---- Relief: anatomy drawn on the lofted surface -------------------------------
 // The rings give the body its measured girths, breadths and depths but no anatomy: an egg of a
 // head, a torso with a flat front. sculpt() moves torso, head and leg vertices horizontally
 // along their ring's outward normal by a sum of smooth, compactly supported bumps ((1 − r²)³

@@ -1,4 +1,4 @@
-// PCA shape space of generated ANSUR bodies (issue 3; SMPL's shape space is learned the same
+// PCA shape space of generated ANSUR bodies (SMPL's shape space is learned the same
 // way from registered scans, Loper et al. 2015 §3).
 #include "caliper/mannequin/population.h"
 
@@ -133,7 +133,7 @@ RealToVirtualFit fit_real_to_virtual(const BodyModel& provisional, const Eigen::
 }
 
 namespace {
-// Whom the model's "plausible" refers to, in words (issue 14): the subjects' sex, count, and
+// Whom the model's "plausible" refers to, in words: the subjects' sex, count, and
 // ranges of age, BMI and stature.
 std::string describe_population(const std::vector<const AnsurSubject*>& subjects, Sex sex) {
   double age_lo = INFINITY, age_hi = -INFINITY, bmi_lo = INFINITY, bmi_hi = -INFINITY, h_lo = INFINITY, h_hi = -INFINITY;

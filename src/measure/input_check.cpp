@@ -1,4 +1,4 @@
-// Typing mistakes in measurements (issue 14; rules in the header).
+// Typing mistakes in measurements (rules in the header).
 #include "caliper/measure/input_check.h"
 
 #include <cmath>

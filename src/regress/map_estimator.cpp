@@ -1,4 +1,4 @@
-// The noise-aware MAP estimator with uncertainty (issue 7). Method: Gaussian prior β ~ N(0, I)
+// The noise-aware MAP estimator with uncertainty. Method: Gaussian prior β ~ N(0, I)
 // of the shape space (paper §3.4.1), Gaussian measurement noise with the paper's Table 2 errors
 // (§4.1), the measurement functions of §3.4.2 linearised exactly in β (their vertex gradients
 // times the shape directions) and minimised by Levenberg–Marquardt; Laplace approximation of the posterior at the optimum.

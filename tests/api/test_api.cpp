@@ -177,7 +177,7 @@ TEST_F(ApiTest, AutoUsesEveryGivenValueAndMeshCanBeLeftOut) {
   EXPECT_NEAR(j["report"]["measurements"]["crotch_height"]["requested_cm"].get<double>(), 80.0, 1e-9);
 }
 
-// The map estimator through the API (issue 7): on the toy body stature is linear in β, so with
+// The map estimator through the API: on the toy body stature is linear in β, so with
 // "exact" noise it is reproduced; the report carries per-measurement SDs and the mesh the
 // per-vertex SDs (N float32, finite, ≥ 0, and > 0 at the top, which moves with β).
 TEST_F(ApiTest, MapReturnsTheUncertainty) {
@@ -594,7 +594,7 @@ TEST(StaticFiles, MimeTypes) {
   EXPECT_EQ(mime_type_for("x.bin"), "application/octet-stream");
 }
 
-// Values that look mistyped (issue 14) are questioned with what was probably meant, unless the
+// Values that look mistyped are questioned with what was probably meant, unless the
 // client says "force": true.
 TEST_F(ApiTest, SuspectValuesAreQuestionedUnlessForced) {
   json e = expect_error(call("POST", "/api/avatar", avatar_body(60, 165).dump()), 400, "stature");

@@ -1,4 +1,4 @@
-// Whose input failed (issue 15), through Api::handle: the client's input is a 4xx naming the
+// Whose input failed, through Api::handle: the client's input is a 4xx naming the
 // field; the server's own broken file (a model in its models folder, the maps inside one, its
 // controller profiles) is a 500 whose body names no file-system path.
 #include <gtest/gtest.h>

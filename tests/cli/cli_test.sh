@@ -126,7 +126,7 @@ else
   echo "note: python3 not found, the crafted-model check was skipped"
 fi
 
-# Whose input failed (issue 15): the same broken file is the caller's (exit 4) when given as a
+# Whose input failed: the same broken file is the caller's (exit 4) when given as a
 # path and the installation's (exit 5) when found by name in the models folder; a value is the
 # caller's (exit 3). One caller case per gate, and an installation case where the installation
 # has such a file (models, the maps inside them).
@@ -262,7 +262,7 @@ expect 4 "eval with a missing training file" "$CALIPER" eval --subjects "$SRC/ex
 says "/nonexistent.csv" "the training file is named"
 ANSUR_F="$SRC/../shared/data/ansur2/ANSUR_II_FEMALE_dev.csv"
 if [ -f "$ANSUR_F" ]; then
-  # The linear limit (issue 14) fitted on one part of the women, tested on another.
+  # The linear limit fitted on one part of the women, tested on another.
   head -201 "$ANSUR_F" >"$TMP/test200.csv"; { head -1 "$ANSUR_F"; tail -n +202 "$ANSUR_F"; } >"$TMP/train.csv"
   expect 0 "eval with --train" "$CALIPER" eval --subjects "$TMP/test200.csv" --train "$TMP/train.csv" --regressor R2,auto --json "$TMP/lin.json"
   says "linear limit: 1290 training subjects" "the training file is used and counted"
@@ -291,7 +291,7 @@ expect 2 "batch --format stl" "$CALIPER" batch --subjects "$SRC/examples/people.
 says "glb, vrm, fbx or obj" "the --format error lists the formats"
 
 # ---------------------------------------------------------------------------------------------
-# Capture sessions (issue 6; docs/capture.md): `serve --data`, a session fed over HTTP, the
+# Capture sessions (docs/capture.md): `serve --data`, a session fed over HTTP, the
 # server killed with SIGKILL mid-session and restarted (nothing lost), `caliper sessions
 # list|export|delete`, `avatar --measurements`, and a foreign database refused and left untouched.
 CAP="$TMP/capture"
@@ -369,7 +369,7 @@ says "measuring 0 0.01" "floor at 1 cm, measuring"
 expect 0 "enter the weight" node "$TMP/cap.mjs" "$PORT" entries "$SID" "$CODE"
 expect 0 "a body-image task answered" node "$TMP/cap.mjs" "$PORT" task "$SID" "$CODE"
 says "200 answered" "and stored"
-# One estimator behind every path (issue 14): a self-measured set gives the same body from the
+# One estimator behind every path: a self-measured set gives the same body from the
 # CLI, from the capture page's request, and from the desktop tool (which imports the set and
 # sends the noise its measured_by names).
 cat >"$TMP/selfset.json" <<'SET'

@@ -1,5 +1,5 @@
 #!/usr/bin/env node
-// End-to-end test of the WebXR capture page (issue 6) in headless Chromium with the iwer WebXR
+// End-to-end test of the WebXR capture page in headless Chromium with the iwer WebXR
 // emulator (from web/node_modules; injected by this test only: the page itself never loads it).
 //
 // A scripted person measures themselves. Their body is a known avatar: the test builds one
@@ -470,7 +470,7 @@ try {
     `${await desk.inputValue('#in-stature')} vs ${set.stature}`);
   check(Math.abs(parseFloat(await desk.inputValue('#in-span')) - set.span) < 0.051, 'with its arm span', await desk.inputValue('#in-span'));
 
-  // The experimenter issues a new code on the page (issue 15): the old one stops working, the new
+  // The experimenter issues a new code on the page: the old one stops working, the new
   // one writes (an empty batch of samples changes nothing).
   await page.evaluate(() => document.getElementById('new-code').click());  // the XR overlay covers the page
   await page.waitForFunction((old) => document.querySelector('#pairing-code')?.innerText.trim() !== old, code, { timeout: 10000 }).catch(() => {});

@@ -409,7 +409,7 @@ try {
   await settle(n + 1);
   check(/R5 · 5 inputs/.test(await page.locator('#regressor-used').innerText()), 'the paper\'s R5 can be chosen');
   check(await page.locator('#noise-row').isHidden(), 'a preset takes its values as exact');
-  // The default estimator (issues 7, 14), self-measured values: error bars per measurement, a
+  // The default estimator, self-measured values: error bars per measurement, a
   // heat map of the per-vertex SD, a warning naming an inconsistent value, and an export that
   // still validates.
   n = await updates();

@@ -1,4 +1,4 @@
-// Pairing codes (issue 15; docs/reliability.md "Pairing codes"): the stored verifier is
+// Pairing codes (docs/reliability.md "Pairing codes"): the stored verifier is
 // PBKDF2-HMAC-SHA256 of the code with a random salt (recomputed here with OpenSSL, independently
 // of the library) and not a fast hash; every session has a budget of wrong codes that survives a
 // restart and that concurrent guessers cannot overshoot; a locked session refuses the right code
@@ -193,7 +193,7 @@ TEST(CapturePairing, ConcurrentGuessesCannotOvershootTheBudget) {
   EXPECT_EQ(svc.check_pairing(c.session.id, c.pairing_code).status, PairingStatus::Locked);
 }
 
-// A sessions.db written before issue 15: schema version 1 (no failure count) and the verifier
+// A sessions.db written by an older Caliper: schema version 1 (no failure count) and the verifier
 // "salt$SHA-256(salt + code)". It opens (migrated to the current version), its points are kept, and its
 // code is refused as outdated — even the right one, which the old scheme would accept — without
 // counting, until a new code is issued.

@@ -1,4 +1,4 @@
-// Whose input failed (issue 15): errors start as the caller's; the code that opens one of the
+// Whose input failed: errors start as the caller's; the code that opens one of the
 // installation's files says so, and what is read later from such a model is blamed on it too.
 // Every gate lets only caliper::Error out.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Typing mistakes in measurements (issue 14): each pattern is caught with what was meant, and
+// Typing mistakes in measurements: each pattern is caught with what was meant, and
 // no real person of the ANSUR II development data is flagged.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The linear limit of `caliper eval` (issue 14) on a synthetic population with a known answer:
+// The linear limit of `caliper eval` on a synthetic population with a known answer:
 // columns that are exact linear functions of the inputs are recovered, noise added to a column
 // shows up as its MAE, and every method is compared with the limit from its own inputs.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The MakeHuman builder (issue 8): asset parsing, the macro rule, rig mapping, landmarks and a
+// The MakeHuman builder: asset parsing, the macro rule, rig mapping, landmarks and a
 // small population build. Tests needing the assets read them from ../shared/data/makehuman and
 // skip with a message where that folder is absent; the macro and bad-file tests need nothing.
 #include <gtest/gtest.h>

@@ -289,7 +289,7 @@ TEST(MannequinGenerator, BendingElbowAndKneeDoesNotExplode) {
   }
 }
 
-// The hand has five digits with SMPL-H's three joints each (issue 13): separate fingers in order
+// The hand has five digits with SMPL-H's three joints each: separate fingers in order
 // from the thumb's side, each joint bending its own finger from that joint on and nothing else.
 int joint_named(const BodyModel& model, const std::string& name) {
   const auto& names = model.data().joint_names;
@@ -417,7 +417,7 @@ TEST(MannequinGenerator, PosesKeepTheBodysVolume) {
   }
 }
 
-// SMPL and SMPL-H pose data drive the rig by joint name (issue 13): SMPL's 72 values and SMPL-H's
+// SMPL and SMPL-H pose data drive the rig by joint name: SMPL's 72 values and SMPL-H's
 // 156 land on the joints they name; a model without fingers drops SMPL-H's finger values.
 TEST(PoseFromValues, SmplAndSmplhValuesLandOnTheirJoints) {
   const Vertices v = mq::generate(mq::typical_dimensions(Sex::Female), Sex::Female);

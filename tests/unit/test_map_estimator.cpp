@@ -1,4 +1,4 @@
-// The noise-aware MAP estimator (issue 7): a closed-form linear-Gaussian case on the toy model,
+// The noise-aware MAP estimator: a closed-form linear-Gaussian case on the toy model,
 // exactness on noise-free consistent inputs, reconciliation of contradictory inputs with a warning
 // naming the culprit, uncertainty shrinking as measurements are added, and calibration of the
 // predicted SDs on synthetic bodies. Tests over the built-in body use invariants only.

@@ -1,4 +1,4 @@
-// Held-out validation of the number of shape directions (issue 14) on a small subset of the
+// Held-out validation of the number of shape directions on a small subset of the
 // ANSUR II development data: the curve has the properties the method guarantees (nested PCA:
 // variance kept rises and reconstruction error falls with K; every subject judged once), and
 // bad options are refused naming the field.

@@ -52,7 +52,7 @@ enum class PairingStatus {
   Paired,     // the session's code
   WrongCode,  // counted against the session's budget
   Locked,     // the budget is spent: every code (the right one too) is refused until reissue_pairing
-  Outdated,   // the stored verifier is of a format no longer accepted (Caliper before issue 15): reissue
+  Outdated,   // the stored verifier is of a format no longer accepted (a Caliper older than schema 2): reissue
   NoSession,
 };
 

@@ -1,4 +1,4 @@
-// Evaluation (paper §4.2, issue 5): rebuild real people from their Virtual Caliper inputs and
+// Evaluation (paper §4.2): rebuild real people from their Virtual Caliper inputs and
 // compare the avatars with what was measured on them (ANSUR II), per regressor, with optional
 // simulated measurement noise (paper Table 2); and a synthetic study of surface distance in the
 // spirit of Table 4.
@@ -92,7 +92,7 @@ Evaluation evaluate_subjects(const std::vector<AnsurSubject>& subjects,
                              const std::function<std::shared_ptr<const AvatarBuilder>(Sex)>& builder_for,
                              const EvaluationOptions& options);
 
-// The JSON of issue 5: {"subjects": n, "regressors": {"R5": {"inputs": {"stature": {"mae_cm",
+// The JSON report: {"subjects": n, "regressors": {"R5": {"inputs": {"stature": {"mae_cm",
 // "max_cm"}, …, "weight": {"mae_kg", "max_kg"}}, "held_out": {col: {"mae_cm", "bias_cm"}},
 // "implausible_share": …, "linear_limit": {col: {"mae_cm", "n"}}, "ratio_to_linear": {col: r},
 // "ratio_to_linear_median", "ratio_to_linear_worst": {"column", "ratio"}}}, "baselines": {…},

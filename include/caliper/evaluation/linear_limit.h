@@ -1,4 +1,4 @@
-// The linear limit (issue 14): what a plain least-squares regression straight from a method's
+// The linear limit: what a plain least-squares regression straight from a method's
 // inputs to a held-out ANSUR column achieves on the same people. It is the yardstick of
 // `caliper eval`: an estimator given the same inputs should predict that column about as well,
 // or it loses information on its way through the body model.

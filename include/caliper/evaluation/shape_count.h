@@ -1,4 +1,4 @@
-// Choosing K, the number of shape directions of a population-built model (issue 14), by held-out
+// Choosing K, the number of shape directions of a population-built model, by held-out
 // validation: the subjects are split into folds; for each fold a model is built from the other
 // folds' bodies (PCA with the largest K asked, then truncated, as PCA directions are nested) and
 // judged on the fold's subjects, who were not in its population:

@@ -1,4 +1,4 @@
-// MakeHuman's CC0 body assets in the MPFB2 folder layout (issue 8): the hm08 base mesh, gzipped
+// MakeHuman's CC0 body assets in the MPFB2 folder layout: the hm08 base mesh, gzipped
 // morph targets, the macro combination rule, the local `measure-*` modifiers, and the 31-bone
 // `cmu_mb` rig with its skinning weights. Format facts are those of the assets' README; no
 // MakeHuman or MPFB2 code is involved. Files are untrusted: every reader throws caliper::Error

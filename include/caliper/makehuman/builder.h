@@ -1,4 +1,4 @@
-// The MakeHuman body model (issue 8): for each ANSUR II subject, the MakeHuman sliders that best
+// The MakeHuman body model: for each ANSUR II subject, the MakeHuman sliders that best
 // reproduce the subject's dimensions (measured by Caliper's own measurement code), then PCA over
 // the fitted bodies as for the built-in body (K = 10 by default), a joint regressor fitted to
 // the rig's joint definitions, volume → weight calibrated on the same subjects.

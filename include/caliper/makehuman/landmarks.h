@@ -1,4 +1,4 @@
-// Landmarks for Caliper's measurements on MakeHuman's hm08 body (our own definitions, issue 8).
+// Landmarks for Caliper's measurements on MakeHuman's hm08 body (our own definitions).
 // Chosen by geometric rules on the reference body (default sliders, T-pose): extremes of the
 // surface near the rig's joints, midline points from hm08.mirror, left points as the mirror of
 // the right ones. landmarks/makehuman.json records the result; a test checks the two agree.

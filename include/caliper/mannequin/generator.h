@@ -2,7 +2,7 @@
 // fixed-topology triangle mesh in a T-pose, with landmarks, a 24-joint SMPL-style rig and
 // skinning weights. Lofted horizontal rings (torso, legs, head) and rings across the arms,
 // joined by hand-designed junctions (crotch, armpits, thumbs). Every body has the same
-// vertices and faces, so a population of bodies can be analysed by PCA (issue 3).
+// vertices and faces, so a population of bodies can be analysed by PCA.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

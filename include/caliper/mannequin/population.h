@@ -1,4 +1,4 @@
-// The built-in body's statistical shape space (issue 3): one generated body per ANSUR II
+// The built-in body's statistical shape space: one generated body per ANSUR II
 // subject, PCA over their vertices, K directions scaled so β ~ N(0, I), and volume → weight
 // calibrated on the same subjects (paper §3.4.2's linear fit, redone on ANSUR).
 #pragma once

@@ -1,4 +1,4 @@
-// Input mistakes a person makes when typing measurements (issue 14): height and weight swapped,
+// Input mistakes a person makes when typing measurements: height and weight swapped,
 // a height in metres, millimetres or inches, a weight in pounds, a length in inches, millimetres
 // or metres. Each suspect value comes with what was probably meant, so a tool can ask "did you
 // mean …?" instead of building a wrong avatar or refusing with a bare range. Judged on values as

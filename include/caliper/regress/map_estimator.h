@@ -1,4 +1,4 @@
-// The noise-aware estimator "map" (issue 7; goes beyond the paper's §3.4.3 regressors): the
+// The noise-aware estimator "map" (goes beyond the paper's §3.4.3 regressors): the
 // maximum a posteriori shape β given any subset of known measurements, under the model's prior
 // β ~ N(0, I) and independent Gaussian measurement noise,
 //     β̂ = argmin  Σ_i ((m_i(β) − y_i) / σ_i)² + ‖β‖²,

@@ -16,7 +16,7 @@ struct AnsurInputColumns {
 };
 const std::vector<AnsurInputColumns>& virtual_caliper_input_columns();
 
-// ANSUR II columns held out from the inputs and compared with the avatars (issue 5), with the
+// ANSUR II columns held out from the inputs and compared with the avatars, with the
 // model measurement each corresponds to.
 const std::vector<std::pair<std::string, std::string>>& held_out_columns();  // (ansur column, measurement)
 
