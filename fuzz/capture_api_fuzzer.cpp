@@ -10,7 +10,7 @@ using namespace caliper;
 namespace {
 
 struct Server {
-  server::CaptureApi api{server::CaptureApiOptions{(fuzz::scratch_dir() / "capture.db").string(), {}, false, {}, {}}};
+  server::CaptureApi api{server::CaptureApiOptions{(fuzz::scratch_dir() / "capture.db").string(), {}, false, {}, {}, {}}};
   fuzz::LiveSession session = fuzz::create_session(api);
 };
 
