@@ -387,8 +387,8 @@ PYBIND11_MODULE(_caliper, m) {
           },
           py::arg("path"), py::kw_only(), py::arg("skeleton") = "smpl", py::arg("morphs") = false,
           "save(path, *, skeleton='smpl', morphs=False): writes path.glb (rigged glTF 2.0 binary), .vrm (VRM 1.0), "
-          ".fbx (binary FBX 7.4) or .obj (metres), as `caliper avatar -o`. skeleton: bone names, smpl (the model's) or "
-          "humanoid (Unity Humanoid); morphs: .glb/.vrm also carry the shape directions as morph targets.")
+          ".fbx (binary FBX 7.4, centimetres) or .obj (metres), as `caliper avatar -o`. skeleton: bone names, smpl (the model's) or "
+          "humanoid (Unity Humanoid); morphs: .glb/.vrm/.fbx also carry the shape directions as morph targets.")
       .def("__repr__", [](const PyAvatar& a) {
         return "<caliper.Avatar model " + a.model.body->name() + ", estimator " + a.avatar.regressor + ">";
       });

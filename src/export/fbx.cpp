@@ -10,8 +10,8 @@
 // count, uint32 encoding (1 = zlib), uint32 byte length, then the (compressed) data.
 // Integers are little-endian. Object names are "name\0\1Class".
 //
-// The scene: GlobalSettings declare +Y up, +Z front, +X side, right-handed, UnitScaleFactor 100
-// (one unit is 100 cm: the file is in metres); Objects hold the mesh Geometry (control points,
+// The scene: GlobalSettings declare +Y up, +Z front, +X side, right-handed, UnitScaleFactor 1:
+// lengths are in centimetres, FBX's own unit (kFileUnitsPerMetre below says why); Objects hold the mesh Geometry (control points,
 // triangles, per-vertex normals, per-corner UVs through an index as the model stores them), the
 // mesh Model, a LimbNode Model (with a Skeleton NodeAttribute) per joint, a Material, a Skin
 // deformer with one Cluster per joint (the vertex indices and weights, Transform = the joint's
@@ -47,6 +47,11 @@ namespace caliper {
 namespace {
 
 constexpr std::uint32_t kFbxVersion = 7400;
+// Lengths are written in centimetres. Unreal's FBX importer takes the numbers as centimetres
+// unless "Convert Scene Unit" is ticked (it is not by default), while Unity ("Convert Units") and
+// Blender ("Apply Unit") convert from the declared unit by default: only a centimetre file lands
+// at its true size in all three without an import option.
+constexpr double kFileUnitsPerMetre = 100.0;
 
 struct Property {
   char type;
@@ -131,7 +136,7 @@ std::vector<double> column_major(const Eigen::Matrix4d& m) {
 Eigen::Matrix4d rest_world(const ExportRig& rig, int j) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.topLeftCorner<3, 3>() = rig.orientations[static_cast<size_t>(j)];
-  m.topRightCorner<3, 1>() = rig.positions[static_cast<size_t>(j)];
+  m.topRightCorner<3, 1>() = kFileUnitsPerMetre * rig.positions[static_cast<size_t>(j)];
   return m;
 }
 
@@ -188,8 +193,8 @@ class SceneBuilder {
                  node("Properties70", {},
                       {axis("UpAxis", 1), axis("UpAxisSign", 1), axis("FrontAxis", 2), axis("FrontAxisSign", 1),
                        axis("CoordAxis", 0), axis("CoordAxisSign", 1), axis("OriginalUpAxis", 1), axis("OriginalUpAxisSign", 1),
-                       p("UnitScaleFactor", "double", "Number", "", {f64(100.0)}),
-                       p("OriginalUnitScaleFactor", "double", "Number", "", {f64(100.0)})})});
+                       p("UnitScaleFactor", "double", "Number", "", {f64(100.0 / kFileUnitsPerMetre)}),
+                       p("OriginalUnitScaleFactor", "double", "Number", "", {f64(100.0 / kFileUnitsPerMetre)})})});
   }
 
   FbxNode documents() {
@@ -254,7 +259,7 @@ class SceneBuilder {
     std::vector<double> positions;
     positions.reserve(static_cast<size_t>(rest_.size()));
     for (Eigen::Index v = 0; v < rest_.rows(); ++v)
-      for (int c = 0; c < 3; ++c) positions.push_back(rest_(v, c));
+      for (int c = 0; c < 3; ++c) positions.push_back(kFileUnitsPerMetre * rest_(v, c));
     std::vector<std::int32_t> polygon;  // the last corner of a polygon is stored as −index − 1
     for (Eigen::Index f = 0; f < faces.rows(); ++f) polygon.insert(polygon.end(), {faces(f, 0), faces(f, 1), -faces(f, 2) - 1});
     const Vertices normals_d = vertex_normals(rest_, faces);
@@ -319,7 +324,7 @@ class SceneBuilder {
   }
 
   static FbxNode limb_node(const ExportRig& rig, int j, std::int64_t id) {
-    const Eigen::Vector3d t = rig.local_translation(j);
+    const Eigen::Vector3d t = kFileUnitsPerMetre * rig.local_translation(j);
     // FBX's default rotation order XYZ: R = Rz·Ry·Rx, in degrees.
     const Eigen::Vector3d zyx = rig.local_rotation(j).eulerAngles(2, 1, 0) * (180.0 / M_PI);
     return node("Model", {i64(id), text(object_name(rig.names[static_cast<size_t>(j)], "Model")), text("LimbNode")},
@@ -351,7 +356,7 @@ class SceneBuilder {
         indexes.push_back(static_cast<std::int32_t>(v));
         // Single precision is what engines keep (and what the body model evaluates S·β in);
         // doubles rounded to it compress to about half.
-        for (int c = 0; c < 3; ++c) moved.push_back(static_cast<float>(direction(v, c)));
+        for (int c = 0; c < 3; ++c) moved.push_back(static_cast<float>(kFileUnitsPerMetre * direction(v, c)));
         for (int c = 0; c < 3; ++c) turn.push_back(static_cast<float>(turned(v, c)));
       }
       const std::string name = "shape_" + std::to_string(k);

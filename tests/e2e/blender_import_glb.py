@@ -102,6 +102,7 @@ def shape_key_problems(mesh, expected):
     1 moves some vertex by more than a millimetre and none by more than half a metre (one SD of
     a body shape direction)."""
     keys = mesh.data.shape_keys.key_blocks if mesh.data.shape_keys else []
+    to_world = mesh.matrix_world.to_3x3()
     names = [k.name for k in keys]
     wanted = ["Basis"] + [f"shape_{k}" for k in range(expected)] if expected else []
     if names != wanted:
@@ -110,7 +111,8 @@ def shape_key_problems(mesh, expected):
     for key in keys[1:]:
         if key.value != 0.0:
             out.append(f"shape key {key.name} is at {key.value}, not 0")
-        moved = max((a.co - b.co).length for a, b in zip(key.data, keys[0].data))
+        # In metres whatever the file's unit (a centimetre FBX comes in with its objects scaled).
+        moved = max((to_world @ (a.co - b.co)).length for a, b in zip(key.data, keys[0].data))
         if not 1e-3 < moved < 0.5:
             out.append(f"shape key {key.name} moves a vertex at most {moved:.4f} m")
     return out
@@ -132,7 +134,8 @@ def bend_problems(arm, mesh):
     after = [v.co.copy() for v in mesh.evaluated_get(depsgraph).to_mesh().vertices]
     elbow.rotation_euler = (0.0, 0.0, 0.0)
     bpy.context.view_layer.update()
-    moved = sorted((a - b).length for a, b in zip(after, before))
+    to_world = mesh.matrix_world.to_3x3()  # metres whatever the file's unit
+    moved = sorted((to_world @ (a - b)).length for a, b in zip(after, before))
     out = []
     if moved[-1] < 0.05:
         out.append(f"bending the elbow moved no vertex more than {moved[-1]:.3f} m")

@@ -345,13 +345,19 @@ struct EngineFbx {
     file.morphs = true;
     bytes = write_avatar(AvatarFormat::Fbx, m, builder.build(request), file);
     scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_ValidateDataStructure, "fbx");
+    // Assimp keeps the file's numbers; the file declares how many centimetres one unit is.
+    double cm = 0;
+    float cm_f = 0;  // Assimp keeps FBX doubles as float or double depending on the version
+    if (scene && scene->mMetaData && !scene->mMetaData->Get("UnitScaleFactor", cm) && scene->mMetaData->Get("UnitScaleFactor", cm_f)) cm = cm_f;
+    metres_per_unit = cm / 100.0;
   }
+  double metres_per_unit = 0;
   const aiNode* node(const std::string& name) const { return scene->mRootNode->FindNode(name.c_str()); }
-  // A node's rest position in the file's frame (metres).
+  // A node's rest position in the file's frame, in metres by the declared unit.
   Eigen::Vector3d at(const std::string& name) const {
     aiMatrix4x4 world;
     for (const aiNode* n = node(name); n; n = n->mParent) world = n->mTransformation * world;
-    return {world.a4, world.b4, world.c4};
+    return metres_per_unit * Eigen::Vector3d(world.a4, world.b4, world.c4);
   }
 };
 
@@ -401,19 +407,20 @@ TEST(UnityRequirements, FbxStandsInATPoseFacingItsFrontOnTheFloor) {
     lowest = std::min(lowest, mesh->mVertices[v].y);
     highest = std::max(highest, mesh->mVertices[v].y);
   }
-  EXPECT_NEAR(lowest, 0.0, 1e-3);
-  EXPECT_NEAR(highest - lowest, 1.65, 0.01);  // the stature asked for, in file units (metres)
+  EXPECT_NEAR(lowest * fbx.metres_per_unit, 0.0, 1e-3);
+  EXPECT_NEAR((highest - lowest) * fbx.metres_per_unit, 1.65, 0.01);  // the stature asked for, by the declared unit
 }
 
-// Units and axes are declared, so Unity's Convert Units (file scale) gives 1 unit = 1 m and
-// Unreal's Convert Scene / Convert Scene Unit map the file onto centimetres, Z up.
-TEST(UnityRequirements, FbxDeclaresMetresYUpAndZFront) {
+// Units and axes are declared: centimetres, so Unreal (which takes the numbers as centimetres
+// unless Convert Scene Unit is ticked) gets the true size as it is, and Unity's Convert Units
+// (file scale 0.01, on by default) gives 1 unit = 1 m; Convert Scene turns +Y up into Unreal's Z up.
+TEST(UnityRequirements, FbxDeclaresCentimetresYUpAndZFront) {
   REQUIRE_ENGINE_FBX();
   ASSERT_NE(fbx.scene->mMetaData, nullptr);
   double scale = 0;
   float scale_f = 0;  // Assimp keeps FBX doubles as float or double depending on the version
   if (!fbx.scene->mMetaData->Get("UnitScaleFactor", scale) && fbx.scene->mMetaData->Get("UnitScaleFactor", scale_f)) scale = scale_f;
-  EXPECT_EQ(scale, 100.0);  // centimetres per file unit
+  EXPECT_EQ(scale, 1.0);  // centimetres per file unit
   const std::map<std::string, int> axes = {{"UpAxis", 1},    {"UpAxisSign", 1}, {"FrontAxis", 2},
                                            {"FrontAxisSign", 1}, {"CoordAxis", 0}, {"CoordAxisSign", 1}};
   for (const auto& [key, expected] : axes) {
@@ -473,8 +480,12 @@ TEST(UnrealRequirements, FbxBindPoseIsTheSkeletonsRestPose) {
     aiMatrix4x4 world;
     for (const aiNode* n = fbx.node(bone->mName.C_Str()); n; n = n->mParent) world = n->mTransformation * world;
     const aiMatrix4x4 product = bone->mOffsetMatrix * world;
+    // Assimp's matrices are single precision: rotations to 1e-5, translations (in metres) to 10 µm.
     for (unsigned r = 0; r < 4; ++r)
-      for (unsigned c = 0; c < 4; ++c) EXPECT_NEAR(product[r][c], r == c ? 1.0 : 0.0, 1e-5) << bone->mName.C_Str();
+      for (unsigned c = 0; c < 4; ++c) {
+        const double scale = c == 3 && r < 3 ? fbx.metres_per_unit : 1.0;
+        EXPECT_NEAR(product[r][c] * scale, r == c ? 1.0 : 0.0, 1e-5) << bone->mName.C_Str();
+      }
   }
   EXPECT_NE(fbx.bytes.find("BindPose"), std::string::npos);
 }
