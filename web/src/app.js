@@ -3,41 +3,11 @@
 // documented JSON API (docs/api.md); three.js is served locally (see build.mjs).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
-import { decodeBase64 } from './shared.js';
+import { ApiError, api, decodeBase64 } from './shared.js';
 
 // ---------------------------------------------------------------------------------------------
 // API
 
-class ApiError extends Error {
-  constructor(status, error) {
-    super(error?.message ?? `HTTP ${status}`);
-    this.status = status;
-    this.field = error?.field ?? null;
-    this.range = error?.accepted_range ?? null;
-    this.kind = error?.kind ?? null;
-    this.suspects = error?.suspects ?? [];  // kind "suspect_values": values that look mistyped
-  }
-}
-
-async function api(path, { method = 'GET', body, contentType = 'application/json', raw = false, headers = {} } = {}) {
-  const init = { method, headers: { ...headers } };
-  if (body !== undefined) {
-    init.body = typeof body === 'string' ? body : JSON.stringify(body);
-    init.headers['Content-Type'] = contentType;
-  }
-  let res;
-  try {
-    res = await fetch(path, init);
-  } catch (e) {
-    throw new ApiError(0, { message: 'the Caliper server is not reachable (is `caliper serve` still running?)' });
-  }
-  if (!res.ok) {
-    let payload = null;
-    try { payload = await res.json(); } catch { /* not JSON */ }
-    throw new ApiError(res.status, payload?.error ?? { message: `HTTP ${res.status}` });
-  }
-  return raw ? res : res.json();
-}
 
 // ---------------------------------------------------------------------------------------------
 // Names shown to people: the paper's words for its inputs, the catalogue's for the rest.

@@ -6,43 +6,14 @@
 // this page's own notes are in docs/capture-page.md.
 import * as THREE from 'three';
 import qrcode from 'qrcode-generator';
-import { decodeBase64 } from './shared.js';
+import { ApiError, api as request, decodeBase64 } from './shared.js';
 
 // ---------------------------------------------------------------------------------------------
 // API
 
-class ApiError extends Error {
-  constructor(status, error) {
-    super(error?.message ?? `HTTP ${status}`);
-    this.status = status;
-    this.field = error?.field ?? null;
-    this.kind = error?.kind ?? null;
-  }
-}
-
-async function api(path, { method = 'GET', body, write = false } = {}) {
-  const init = { method, headers: {} };
-  if (body !== undefined) {
-    init.body = JSON.stringify(body);
-    init.headers['Content-Type'] = 'application/json';
-  }
-  // Writes always need the code; reads of a session need it too from any device but the
-  // server's own machine (docs/api.md "Pairing"), so it goes with every request once known.
-  if (write) init.headers['X-Caliper-Pairing'] = state.code ?? '';
-  else if (state.code) init.headers['X-Caliper-Pairing'] = state.code;
-  let res;
-  try {
-    res = await fetch(path, init);
-  } catch {
-    throw new ApiError(0, { message: 'the Caliper server is not reachable (is `caliper serve` still running?)' });
-  }
-  if (!res.ok) {
-    let payload = null;
-    try { payload = await res.json(); } catch { /* not JSON */ }
-    throw new ApiError(res.status, payload?.error ?? { message: `HTTP ${res.status}` });
-  }
-  return res.status === 204 ? null : res.json();
-}
+// Writes always need the code; reads of a session need it too from any device but the server's
+// own machine (docs/api.md "Pairing"), so it goes with every request once known.
+const api = (path, { write = false, ...rest } = {}) => request(path, { ...rest, code: write ? state.code ?? '' : state.code });
 
 const FRIENDLY = {
   floor: 'Floor', stature: 'Height', weight: 'Weight', span: 'Arm span', crotch_height: 'Inseam',
@@ -790,12 +761,7 @@ async function download(e) {
   e.preventDefault();
   const a = e.currentTarget;
   try {
-    const res = await fetch(a.href, { headers: state.code ? { 'X-Caliper-Pairing': state.code } : {} });
-    if (!res.ok) {
-      let payload = null;
-      try { payload = await res.json(); } catch { /* not JSON */ }
-      throw new ApiError(res.status, payload?.error ?? { message: `HTTP ${res.status}` });
-    }
+    const res = await api(a.href, { raw: true });
     const url = URL.createObjectURL(await res.blob());
     const tmp = document.createElement('a');
     tmp.href = url;

@@ -13,40 +13,11 @@
 // the weight changed), and a task list kept in the page (`localTasks`), marked as such.
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { Matrix4, Vector3 } from 'three';
+import { ApiError, api } from './shared.js';
 
 export const DEFAULT_WEIGHTS = [-30, -20, -10, 0, 10, 20, 30];
 
-export class ApiError extends Error {
-  constructor(status, error) {
-    super(error?.message ?? `HTTP ${status}`);
-    this.status = status;
-    this.field = error?.field ?? null;
-    this.kind = error?.kind ?? null;
-  }
-}
-
-// fetch + the API's error shape; `code` goes in X-Caliper-Pairing when given.
-export async function api(path, { method = 'GET', body, code = null, raw = false } = {}) {
-  const init = { method, headers: {} };
-  if (body !== undefined) {
-    init.body = typeof body === 'string' ? body : JSON.stringify(body);
-    init.headers['Content-Type'] = typeof body === 'string' ? 'text/plain' : 'application/json';
-  }
-  if (code) init.headers['X-Caliper-Pairing'] = code;
-  let res;
-  try {
-    res = await fetch(path, init);
-  } catch {
-    throw new ApiError(0, { message: 'the Caliper server is not reachable (is `caliper serve` still running?)' });
-  }
-  if (!res.ok) {
-    let payload = null;
-    try { payload = await res.json(); } catch { /* not JSON */ }
-    throw new ApiError(res.status, payload?.error ?? { message: `HTTP ${res.status}` });
-  }
-  if (raw) return res.arrayBuffer();
-  return res.status === 204 ? null : res.json();
-}
+export { ApiError, api };
 
 // The server has no such route (an older server, or the mirror's server side not merged yet).
 const missingEndpoint = (e) => e instanceof ApiError && e.status === 404 && e.field === 'path';
@@ -116,7 +87,7 @@ async function modelFromExports(sex, measurements, weights) {
   const bodies = await Promise.all(grid.map(async (pct) => {
     const set = { ...given };
     if (Number.isFinite(base)) set.weight = Math.round(base * (1 + pct / 100) * 10) / 10;
-    const buffer = await api('/api/export/glb', { method: 'POST', body: { sex, regressor: 'auto', measurements: set, force: true }, raw: true });
+    const buffer = await (await api('/api/export/glb', { method: 'POST', body: { sex, regressor: 'auto', measurements: set, force: true }, raw: true })).arrayBuffer();
     return { pct, weightKg: set.weight ?? null, parsed: await parseGlb(buffer) };
   }));
   const { rig } = bodies[0].parsed;
