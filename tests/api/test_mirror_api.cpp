@@ -148,7 +148,7 @@ TEST(MirrorApi, BadWeightListsAreRefusedNamingTheField) {
   for (int i = 1; i <= 22; ++i) many.push_back(i);
   json twenty_one = json::array();
   for (int i = 1; i <= 21; ++i) twenty_one.push_back(i);  // 21 and the 0 added: 22
-  for (const json& bad : {json(many), json(twenty_one), json({-60}), json({101}), json({"ten"}), json(10), json({nullptr})})
+  for (const json& bad : {json(many), json(twenty_one), json::array({-60}), json::array({101}), json::array({"ten"}), json(10), json::array({nullptr})})
     expect_error(call(api, "POST", "/api/mirror-body", with(bad)), 400, "weights");
   const json range = body_of(call(api, "POST", "/api/mirror-body", with({150})));
   EXPECT_NE(range["error"]["message"].get<std::string>().find("[-50, 100]"), std::string::npos) << range.dump();
@@ -332,7 +332,8 @@ TEST(MirrorApi, BadTasksAndAnswersNameTheField) {
 
   const json t = start_task(api, id, {{"kind", "adjust"}, {"range_pct", {-20, 40}}});
   const std::string answer = tasks + "/" + t["id"].get<std::string>() + "/answer";
-  auto send = [&](const json& body) { return call(api, "POST", answer, body.dump(), code); };
+  const std::string pairing = code;  // a lambda may not capture a structured binding (clang 14)
+  auto send = [&](const json& body) { return call(api, "POST", answer, body.dump(), pairing); };
   json bad = answer_body(45);
   expect_error(send(bad), 400, "chosen_weight_change_pct");
   bad = answer_body(-21);
