@@ -11,8 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "api.h"
-#include "api_fixture.h"
+#include "api_calls.h"
 #include "caliper/caliper.h"
 #include "static_files.h"
 
@@ -20,6 +19,7 @@ namespace caliper::server {
 namespace {
 
 using nlohmann::json;
+using test_calls::expect_error;
 
 std::vector<unsigned char> unbase64(const std::string& text) {
   auto value = [](char c) -> int {
@@ -71,18 +71,6 @@ class ApiTest : public ::testing::Test {
     ApiResponse r = call("POST", path, body.dump());
     EXPECT_EQ(r.status, expected_status) << r.body;
     return json::parse(r.body);
-  }
-  // Expects a 4xx JSON error naming `field`; returns the error object.
-  static json expect_error(const ApiResponse& r, int status, const std::string& field) {
-    EXPECT_EQ(r.status, status) << r.body;
-    EXPECT_EQ(r.content_type, "application/json");
-    json j = json::parse(r.body);
-    EXPECT_TRUE(j.contains("error")) << r.body;
-    EXPECT_TRUE(j["error"]["message"].is_string());
-    EXPECT_FALSE(j["error"]["message"].get<std::string>().empty());
-    if (field.empty()) EXPECT_TRUE(j["error"]["field"].is_null()) << r.body;
-    else EXPECT_EQ(j["error"]["field"], field) << r.body;
-    return j["error"];
   }
   static json avatar_body(double stature, double weight, const std::string& regressor = "R2") {
     return {{"sex", "female"}, {"model", "toy"}, {"regressor", regressor}, {"measurements", {{"stature", stature}, {"weight", weight}}}};

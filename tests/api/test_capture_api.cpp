@@ -14,8 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "api.h"
-#include "api_fixture.h"
+#include "api_calls.h"
 #include "capture_api.h"
 #include "caliper/capture/measurement_set.h"
 #include "caliper/errors.h"
@@ -35,32 +34,9 @@ using nlohmann::json;
 using test::SampleScript;
 using test::ScriptedPerson;
 using test::TempDir;
+using namespace test_calls;
 
 const Eigen::Vector3d kTouchPlus = capture::ProfileRegistry::builtin().find("meta-quest-touch-plus")->tip_offset;
-
-ApiOptions options_for(const std::string& db) {
-  ApiOptions o;
-  o.models_dir = test::toy_models_dir();
-  o.default_model = "toy";
-  o.sessions_database = db;
-  return o;
-}
-
-ApiResponse call(const Api& api, const std::string& method, const std::string& path, const std::string& body = {},
-                 const std::string& code = {}, std::map<std::string, std::string> query = {},
-                 const std::string& remote_address = "192.168.1.20") {
-  ApiRequest r;
-  r.method = method;
-  r.path = path;
-  r.remote_address = remote_address;
-  r.body = body;
-  r.query = std::move(query);
-  r.content_type = "application/json";
-  if (!code.empty()) r.headers["x-caliper-pairing"] = code;
-  return api.handle(r);
-}
-
-json body_of(const ApiResponse& r) { return json::parse(r.body); }
 
 json samples_json(const std::vector<capture::ControllerSample>& batch) {
   json arr = json::array();
@@ -91,14 +67,6 @@ std::pair<std::string, std::string> create(const Api& api, const json& body = js
   EXPECT_EQ(r.status, 201) << r.body;
   const json j = body_of(r);
   return {j["session"]["id"].get<std::string>(), j["pairing_code"].get<std::string>()};
-}
-
-void expect_error(const ApiResponse& r, int status, const std::string& field) {
-  EXPECT_EQ(r.status, status) << r.body;
-  const json j = body_of(r);
-  ASSERT_TRUE(j.contains("error")) << r.body;
-  EXPECT_EQ(j["error"]["field"], field) << r.body;
-  EXPECT_TRUE(j["error"]["message"].is_string());
 }
 
 TEST(CaptureApi, ProfilesListTipOffsets) {
@@ -194,7 +162,7 @@ TEST(CaptureApi, AScriptedPersonMeasuredThroughTheApi) {
   EXPECT_EQ(s["measurement_set"]["weight"], 70.5);
 
   for (const std::string format : {"json", "csv"}) {
-    const ApiResponse e = call(api, "GET", "/api/sessions/" + id + "/export", {}, code, {{"format", format}});
+    const ApiResponse e = call(api, "GET", "/api/sessions/" + id + "/export", {}, code, kHeadset, {{"format", format}});
     ASSERT_EQ(e.status, 200) << e.body;
     EXPECT_FALSE(e.download_name.empty());
     const MeasurementSetFile set = parse_measurement_set(e.body);
@@ -208,11 +176,11 @@ TEST(CaptureApi, AScriptedPersonMeasuredThroughTheApi) {
     EXPECT_DOUBLE_EQ(set.edge.at("weight"), 70.5);
   }
   // The desktop tool's own importer accepts the export.
-  const ApiResponse exported = call(api, "GET", "/api/sessions/" + id + "/export", {}, {}, {}, "127.0.0.1");  // the desktop
+  const ApiResponse exported = call(api, "GET", "/api/sessions/" + id + "/export", {}, {}, kDesktop);  // the desktop
   const ApiResponse imported = call(api, "POST", "/api/measurement-set/import", exported.body);
   EXPECT_EQ(imported.status, 200) << imported.body;
 
-  const json list = body_of(call(api, "GET", "/api/sessions", {}, {}, {}, "127.0.0.1"));
+  const json list = body_of(call(api, "GET", "/api/sessions", {}, {}, kDesktop));
   ASSERT_EQ(list["sessions"].size(), 1u);
   EXPECT_FALSE(list["sessions"][0].contains("points"));
   EXPECT_EQ(list["sessions"][0]["id"], id);
@@ -262,11 +230,11 @@ TEST(CaptureApi, WritesNeedThePairingCode) {
   expect_error(waiting, 429, "pairing_code");
   EXPECT_EQ(body_of(waiting)["error"]["kind"], "too_many_attempts");
   // ... from that device only: the headset, elsewhere on the network, goes on with the right code.
-  EXPECT_EQ(call(api, "POST", "/api/sessions/" + id + "/undo", "", code, {}, "192.168.1.30").status, 200);
+  EXPECT_EQ(call(api, "POST", "/api/sessions/" + id + "/undo", "", code, "192.168.1.31").status, 200);
   // Another session is not affected.
   const auto [id2, code2] = create(api);
   EXPECT_EQ(call(api, "DELETE", "/api/sessions/" + id2, "", code2).status, 204);
-  expect_error(call(api, "GET", "/api/sessions/" + id2, {}, {}, {}, "127.0.0.1"), 404, "id");
+  expect_error(call(api, "GET", "/api/sessions/" + id2, {}, {}, kDesktop), 404, "id");
 }
 
 // The audit's attack: a new client address for every guess. The per-address throttle never
@@ -282,7 +250,7 @@ TEST(CaptureApi, RotatingAddressesCannotGuessMoreThanTheSessionsBudget) {
     guess[0] = static_cast<char>('0' + (code[0] - '0' + 1 + i % 9) % 10);  // never the code
     guess[1] = static_cast<char>('0' + i / 9);
     const std::string address = "10.0." + std::to_string(i / 200) + "." + std::to_string(i % 200 + 1);
-    const ApiResponse r = call(api, "POST", "/api/sessions/" + id + "/undo", "", guess, {}, address);
+    const ApiResponse r = call(api, "POST", "/api/sessions/" + id + "/undo", "", guess, address);
     EXPECT_NE(r.status, 429) << "each address guesses once: the per-address throttle never sees it";
     if (r.status == 403) ++tried;
     if (r.status == 423) {
@@ -295,22 +263,22 @@ TEST(CaptureApi, RotatingAddressesCannotGuessMoreThanTheSessionsBudget) {
   EXPECT_EQ(tried, 9);    // the 10th wrong code already answers 423
   EXPECT_EQ(locked, 31);
   // The right code, from a fresh address or the headset's: refused, for writes and reads alike.
-  expect_error(call(api, "POST", "/api/sessions/" + id + "/samples", json{{"samples", json::array()}}.dump(), code, {}, "10.9.9.9"),
+  expect_error(call(api, "POST", "/api/sessions/" + id + "/samples", json{{"samples", json::array()}}.dump(), code, "10.9.9.9"),
                423, "pairing_code");
-  expect_error(call(api, "GET", "/api/sessions/" + id, {}, code, {}, "192.168.1.30"), 423, "pairing_code");
+  expect_error(call(api, "GET", "/api/sessions/" + id, {}, code, "192.168.1.30"), 423, "pairing_code");
   // A new server (restart) keeps the lock.
   Api restarted(options_for(dir / "s.db"));
-  expect_error(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", code, {}, "192.168.1.30"), 423, "pairing_code");
+  expect_error(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", code, "192.168.1.30"), 423, "pairing_code");
   // Only the desktop may issue a new code; it unlocks the session.
-  expect_error(call(restarted, "POST", "/api/sessions/" + id + "/pairing", "", code, {}, "192.168.1.30"), 403, "pairing_code");
-  const ApiResponse reissued = call(restarted, "POST", "/api/sessions/" + id + "/pairing", "", {}, {}, "127.0.0.1");
+  expect_error(call(restarted, "POST", "/api/sessions/" + id + "/pairing", "", code, "192.168.1.30"), 403, "pairing_code");
+  const ApiResponse reissued = call(restarted, "POST", "/api/sessions/" + id + "/pairing", "", {}, kDesktop);
   ASSERT_EQ(reissued.status, 200) << reissued.body;
   const std::string fresh = body_of(reissued)["pairing_code"];
   ASSERT_EQ(fresh.size(), 6u);
   EXPECT_EQ(body_of(reissued)["session"]["id"], id);
-  EXPECT_EQ(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", fresh, {}, "192.168.1.30").status, 200);
-  if (fresh != code) expect_error(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", code, {}, "192.168.1.31"), 403, "pairing_code");
-  expect_error(call(restarted, "POST", "/api/sessions/s-nope/pairing", "", {}, {}, "127.0.0.1"), 404, "id");
+  EXPECT_EQ(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", fresh, "192.168.1.30").status, 200);
+  if (fresh != code) expect_error(call(restarted, "POST", "/api/sessions/" + id + "/undo", "", code, "192.168.1.31"), 403, "pairing_code");
+  expect_error(call(restarted, "POST", "/api/sessions/s-nope/pairing", "", {}, kDesktop), 404, "id");
 }
 
 // Who may read what: the desktop (loopback, or a browser on the server's own LAN address) lists
@@ -320,7 +288,7 @@ TEST(CaptureApi, OnlyTheDesktopListsMeasurementsOthersNeedTheCode) {
   TempDir dir;
   Api api(options_for(dir / "s.db"));
   const auto [id, code] = create(api, {{"sex", "female"}, {"weight_kg", 61.5}});
-  const json stubs = body_of(call(api, "GET", "/api/sessions"));  // from 192.168.1.20
+  const json stubs = body_of(call(api, "GET", "/api/sessions"));  // from a headset
   ASSERT_EQ(stubs["sessions"].size(), 1u);
   const json stub = stubs["sessions"][0];
   EXPECT_EQ(stub["id"], id);
@@ -328,9 +296,9 @@ TEST(CaptureApi, OnlyTheDesktopListsMeasurementsOthersNeedTheCode) {
   for (const char* hidden : {"values", "measurement_set", "weight_kg", "sex", "points", "step"})
     EXPECT_FALSE(stub.contains(hidden)) << hidden << " in " << stub.dump();
   for (const char* desktop : {"127.0.0.1", "::1", "::ffff:127.0.0.1"}) {
-    const json full = body_of(call(api, "GET", "/api/sessions", {}, {}, {}, desktop));
+    const json full = body_of(call(api, "GET", "/api/sessions", {}, {}, desktop));
     EXPECT_EQ(full["sessions"][0]["measurement_set"]["weight"], 61.5) << desktop;
-    EXPECT_EQ(call(api, "GET", "/api/sessions/" + id, {}, {}, {}, desktop).status, 200) << desktop;
+    EXPECT_EQ(call(api, "GET", "/api/sessions/" + id, {}, {}, desktop).status, 200) << desktop;
   }
   // The browser on the server's machine using its LAN address (e.g. https://192.168.1.23:8080).
   ApiRequest same_machine;
@@ -345,7 +313,7 @@ TEST(CaptureApi, OnlyTheDesktopListsMeasurementsOthersNeedTheCode) {
     expect_error(call(api, "GET", path, {}, wrong), 403, "pairing_code");
     EXPECT_EQ(call(api, "GET", path, {}, code).status, 200) << path;
   }
-  const ApiResponse exported = call(api, "GET", "/api/sessions/" + id + "/export", {}, code, {{"format", "csv"}});
+  const ApiResponse exported = call(api, "GET", "/api/sessions/" + id + "/export", {}, code, kHeadset, {{"format", "csv"}});
   EXPECT_NE(exported.body.find("61.5"), std::string::npos) << exported.body;
   expect_error(call(api, "GET", "/api/sessions/s-nope", {}, code), 404, "id");
 }
@@ -388,7 +356,7 @@ TEST(CaptureApi, BadInputIsA4xxNamingTheField) {
   expect_error(call(api, "POST", "/api/sessions/" + id + "/entries", R"({"weight_kg": "heavy"})", code), 400, "weight");
   expect_error(call(api, "GET", "/api/sessions/s-nope"), 404, "id");
   expect_error(call(api, "POST", "/api/sessions/s-nope/samples", "{}", code), 404, "id");
-  expect_error(call(api, "GET", "/api/sessions/" + id + "/export", {}, {}, {{"format", "xml"}}), 400, "format");
+  expect_error(call(api, "GET", "/api/sessions/" + id + "/export", {}, {}, kHeadset, {{"format", "xml"}}), 400, "format");
   expect_error(call(api, "PUT", "/api/sessions"), 405, "method");
   expect_error(call(api, "GET", "/api/sessions/" + id + "/samples"), 405, "method");
   // Nothing of the refused batches reached the session.

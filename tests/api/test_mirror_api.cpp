@@ -10,8 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "api.h"
-#include "api_fixture.h"
+#include "api_calls.h"
 #include "caliper/capture/measurement_set.h"
 #include "caliper/capture/profiles.h"
 #include "temp_files.h"
@@ -22,40 +21,7 @@ namespace {
 
 using nlohmann::json;
 using test::TempDir;
-
-constexpr const char* kDesktop = "127.0.0.1";
-constexpr const char* kHeadset = "192.168.1.30";
-
-ApiOptions options_for(const std::string& db) {
-  ApiOptions o;
-  o.models_dir = test::toy_models_dir();
-  o.default_model = "toy";
-  o.sessions_database = db;
-  return o;
-}
-
-ApiResponse call(const Api& api, const std::string& method, const std::string& path, const std::string& body = {},
-                 const std::string& code = {}, const std::string& remote = kHeadset, std::map<std::string, std::string> query = {}) {
-  ApiRequest r;
-  r.method = method;
-  r.path = path;
-  r.remote_address = remote;
-  r.body = body;
-  r.query = std::move(query);
-  r.content_type = "application/json";
-  if (!code.empty()) r.headers["x-caliper-pairing"] = code;
-  return api.handle(r);
-}
-
-json body_of(const ApiResponse& r) { return json::parse(r.body); }
-
-void expect_error(const ApiResponse& r, int status, const std::string& field) {
-  EXPECT_EQ(r.status, status) << r.body;
-  const json j = body_of(r);
-  ASSERT_TRUE(j.contains("error")) << r.body;
-  EXPECT_EQ(j["error"]["field"], field) << r.body;
-  EXPECT_TRUE(j["error"]["message"].is_string());
-}
+using namespace test_calls;
 
 // The toy body (api_fixture.h) measured: its stature kept, its width free to follow the weight.
 const char* kToyMeasurements = R"({"sex": "female", "measurements": {"stature": 172}})";
