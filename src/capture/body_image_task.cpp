@@ -138,8 +138,13 @@ ordered_json task_object(const BodyImageTask& t) {
   return j;
 }
 
-// A CSV cell: quoted when it holds a separator, a quote or a line break (RFC 4180).
-std::string csv_cell(const std::string& v) {
+// A text cell: quoted when it holds a separator, a quote or a line break (RFC 4180). Text that a
+// spreadsheet would run as a formula (starting with = + - @ or a tab) gets a leading apostrophe,
+// so an experimenter's instruction cannot become a formula on the analyst's machine (OWASP's
+// advice against CSV injection).
+std::string csv_cell(const std::string& text) {
+  const bool formula_like = !text.empty() && std::string("=+-@\t\r").find(text.front()) != std::string::npos;
+  const std::string v = formula_like ? "'" + text : text;
   if (v.find_first_of(",\"\r\n") == std::string::npos) return v;
   std::string out = "\"";
   for (char c : v) out += c == '"' ? std::string("\"\"") : std::string(1, c);

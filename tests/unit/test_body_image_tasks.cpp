@@ -4,6 +4,9 @@
 // database upgraded in place, a newer one refused untouched, and the CSV export's cells.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "caliper/capture/body_image_task.h"
 #include "caliper/capture/service.h"
@@ -172,6 +175,27 @@ TEST(BodyImageTasks, CsvCellsAreQuotedWhenTheyNeedIt) {
   const std::string csv = write_body_image_tasks_csv({t});
   EXPECT_EQ(csv.substr(csv.find('\n') + 1),
             "t-1,adjust,\"say \"\"thin\"\", or not\",0,-30,30,running,2026-11-25T16:00:00Z,,,,,,,\n");
+}
+
+// An instruction is free text typed by whoever holds the desktop; opened in a spreadsheet, a
+// cell starting with = + - @ would run as a formula. The export keeps the text, defused.
+TEST(BodyImageTasks, CsvTextThatLooksLikeAFormulaIsNotOne) {
+  BodyImageTask t;
+  t.id = "t-2";
+  t.created = "2026-11-25T16:00:00Z";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"=HYPERLINK(\"http://x\",\"y\")", "\"'=HYPERLINK(\"\"http://x\"\",\"\"y\"\")\""},
+      {"+1 looks thinner", "'+1 looks thinner"},
+      {"-20% please", "'-20% please"},
+      {"@SUM(A1)", "'@SUM(A1)"},
+      {"how I look = fine", "how I look = fine"},  // only the first character matters
+  };
+  for (const auto& [instruction, cell] : cases) {
+    t.instruction = instruction;
+    const std::string csv = write_body_image_tasks_csv({t});
+    EXPECT_EQ(csv.substr(csv.find('\n') + 1), "t-2,adjust," + cell + ",0,-30,30,running,2026-11-25T16:00:00Z,,,,,,,\n")
+        << instruction;
+  }
 }
 
 }  // namespace caliper::capture

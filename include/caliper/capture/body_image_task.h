@@ -76,7 +76,8 @@ std::string write_session_json(const MeasurementSetFile& set, const std::vector<
 // The tasks as a CSV table, a header line then one row per task, oldest first:
 // task_id,kind,instruction,start_weight_change_pct,range_min_pct,range_max_pct,state,created,
 // chosen_weight_change_pct,chosen_weight_kg,chosen_bmi,shown_at_s,answered_at_s,adjustments,
-// answered (empty cells for a task without an answer; text cells quoted when they need it).
+// answered (empty cells for a task without an answer; text cells quoted when they need it, and
+// prefixed with ' when a spreadsheet would read them as a formula: = + - @ or a tab first).
 std::string write_body_image_tasks_csv(const std::vector<BodyImageTask>& tasks);
 
 }  // namespace caliper::capture
