@@ -454,11 +454,15 @@ struct Api::Impl {
     Avatar avatar;
     double build_ms = 0;
   };
-  Built build(const BodyRequest& r) const {
+  // `shape_only`: the body and its joints, no uncertainty and no measuring (the mirror's bodies
+  // are shown, not reported; measuring and the vertex SDs would double their cost).
+  Built build(const BodyRequest& r, bool shape_only = false) const {
     Built b;
     b.entry = entry(r.model, r.sex);
+    AvatarRequest request = checked_request(r.edge);
+    if (shape_only) request.vertex_uncertainty = request.measure_avatar = false;
     const auto t0 = std::chrono::steady_clock::now();
-    b.avatar = b.entry->builder->build(checked_request(r.edge));
+    b.avatar = b.entry->builder->build(request);
     b.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return b;
   }
@@ -572,7 +576,7 @@ struct Api::Impl {
   // The virtual mirror's bodies (docs/api.md "Mirror bodies"): the person as measured and with
   // the weight changed, one topology and rig, plain JSON arrays for the WebXR page.
   ApiResponse mirror_bodies(const BodyRequest& r) const {
-    const Built original = build(r);
+    const Built original = build(r, /*shape_only=*/true);
     const AvatarBuilder& builder = *original.entry->builder;
     const BodyModel& model = builder.model();
     const std::vector<Avatar> bodies = with_weight_changes(builder, original.avatar, r.weights);
