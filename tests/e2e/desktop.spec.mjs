@@ -348,6 +348,18 @@ try {
   const channels = readFileSync(morphFbx).toString('latin1').split('BlendShapeChannel').length - 1;
   check(channels === targets.length, 'and the .fbx a blend-shape channel per shape direction', `${channels} channels`);
   await morphBox.uncheck();
+  // Engine bone names, picked by their accessible name: the .glb's joints are Humanoid's.
+  const smplNodes = new Set(JSON.parse(readFileSync(glb).subarray(20, 20 + readFileSync(glb).readUInt32LE(12)).toString('utf8'))
+    .nodes.map((n) => n.name));
+  await page.getByRole('combobox', { name: 'bone names' }).selectOption('humanoid');
+  const [humanoidDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-glb')]);
+  const humanoidGlb = join(tmp, `humanoid-${humanoidDownload.suggestedFilename()}`);
+  await humanoidDownload.saveAs(humanoidGlb);
+  const hBytes = readFileSync(humanoidGlb);
+  const hNodes = JSON.parse(hBytes.subarray(20, 20 + hBytes.readUInt32LE(12)).toString('utf8')).nodes.map((n) => n.name);
+  check(smplNodes.has('left_shoulder') && hNodes.includes('LeftUpperArm') && hNodes.includes('Hips') && !hNodes.includes('left_shoulder'),
+    'the bone-names choice writes Humanoid joint names (SMPL\'s by default)', hNodes.slice(0, 6).join(' '));
+  await page.getByRole('combobox', { name: 'bone names' }).selectOption('smpl');
 
   // A set the server refuses: its message, with the range once.
   await page.setInputFiles('#import-file', { name: 'bad.csv', mimeType: 'text/csv', buffer: Buffer.from('measurement,value,unit\nheight,400,cm\n') });

@@ -924,10 +924,12 @@ async function download(path, body, fallbackName) {
   }
 }
 
-// The rigged files, with the model's shape directions as blend shapes when that box is ticked.
+// The rigged files, with the model's shape directions as blend shapes when that box is ticked,
+// and the bone names chosen (SMPL's unless the user picks engine names).
 function exportRigged(format) {
   const body = requestBody();
   if ($('export-morphs').checked) body.morphs = true;
+  if ($('export-skeleton').value !== 'smpl') body.skeleton = $('export-skeleton').value;
   download(`/api/export/${format}`, body, `avatar.${format}`);
 }
 for (const format of ['glb', 'vrm', 'fbx']) $(`export-${format}`).addEventListener('click', () => exportRigged(format));
