@@ -19,6 +19,7 @@ import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
+import { HOLD_SECONDS, call, holdSamples, stepPose } from './scripted-capture.mjs';
 
 const args = process.argv.slice(2);
 const option = (name, fallback) => {
@@ -53,38 +54,6 @@ function startServer() {
   });
 }
 
-async function call(base, method, path, body, code) {
-  const headers = { 'Content-Type': 'application/json' };
-  if (code) headers['X-Caliper-Pairing'] = code;
-  const r = await fetch(base + path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
-  const text = await r.text();
-  return { status: r.status, json: text ? JSON.parse(text) : null };
-}
-
-// Where the two controllers' grips are held for a step (metres; identity orientation, so the
-// tips sit at the same offset from both grips and heights and distances are the grips').
-function pose(step, repetition) {
-  const wobble = 0.002 * repetition;  // repetitions agree within ISAK's 1.5 %
-  const height = { stature: 1.70, crotch_height: 0.80 };
-  const distance = { span: 1.72, hip_breadth: 0.36, arm_length: 0.60 };
-  if (step.kind === 'floor') return { right: [0.3 * Math.cos(repetition), 0, 0.3 * Math.sin(repetition)], left: [-0.3, 0.9, 0] };
-  if (step.kind === 'height') return { right: [0.2, (height[step.name] ?? 1.2) + wobble, 0.1], left: [-0.3, 0.9, 0] };
-  const d = (distance[step.name] ?? 0.4) + wobble;
-  return { right: [d / 2, 1.3, 0.2], left: [-d / 2, 1.3, 0.2] };
-}
-
-// One trigger hold of 1.2 s then a release, both controllers at 72 frames a second.
-function hold(t0, where) {
-  const samples = [];
-  for (let i = 0; i < 100; i++) {
-    const t = t0 + i / 72;
-    const trigger = i < 87 ? 1 : 0;
-    samples.push({ t, hand: 'right', position: where.right, orientation: [0, 0, 0, 1], trigger });
-    samples.push({ t, hand: 'left', position: where.left, orientation: [0, 0, 0, 1], trigger: 0 });
-  }
-  return samples;
-}
-
 const sessions = new Map();  // id → {code, acknowledged, t}
 let current = null;
 
@@ -100,8 +69,8 @@ async function drive(base) {
   let acknowledged = 0;
   for (;;) {
     if (!current || !current.step) await newSession(base);
-    const body = { profile: 'meta-quest-touch-plus', samples: hold(current.t, pose(current.step, current.acknowledged)) };
-    current.t += 100 / 72 + 0.1;
+    const body = { profile: 'meta-quest-touch-plus', samples: holdSamples(current.t, stepPose(current.step, current.acknowledged)) };
+    current.t += HOLD_SECONDS;
     const r = await call(base, 'POST', `/api/sessions/${current.id}/samples`, body, current.code);
     if (r.status !== 200) throw new Error(`samples: ${r.status} ${JSON.stringify(r.json)}`);
     const accepted = r.json.events.filter((e) => e.type === 'point_accepted').length;

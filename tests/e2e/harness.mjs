@@ -79,9 +79,10 @@ export function finish() {
 }
 
 // `caliper serve` on a free port; capture sessions go to `dataDir`, never the user's own folder.
-export function startServer(modelsDir, dataDir) {
+// The server on `port` (0: any free one); resolves to {child, base} once it listens.
+export function startServer(modelsDir, dataDir, port = 0) {
   return new Promise((resolvePromise, reject) => {
-    const child = spawn(caliper, ['serve', '--port', '0', '--web-root', join(root, 'web', 'dist'), '--quiet', '--data', dataDir],
+    const child = spawn(caliper, ['serve', '--port', String(port), '--web-root', join(root, 'web', 'dist'), '--quiet', '--data', dataDir],
       { env: { ...process.env, CALIPER_MODELS_DIR: modelsDir }, stdio: ['ignore', 'pipe', 'pipe'] });
     let out = '', err = '';
     const timer = setTimeout(() => reject(new Error(`server did not start: ${out}${err}`)), 120000);

@@ -6,6 +6,8 @@
 //     joint must be where the headset is minus the avatar's eye offset, and its wrist joints where
 //     the controllers put them (grip · the documented wrist offset), within 1 cm — read from the
 //     three.js bones the page skins with, not from the solver;
+//   - with hand tracking (iwer's emulated hands), the wrists on the tracked wrists within 1 cm and
+//     every finger bone along the tracked bone within 3°, a pointing hand's curl reproduced;
 //   - looking at the mirror, the mirror region must show the avatar (skin-coloured pixels), and
 //     must not when the avatar is hidden (so the pixels are the avatar's, not the room's);
 //   - looking down, the body is in view and the head is not drawn in the first person;
@@ -18,7 +20,8 @@
 //
 //   node tests/e2e/mirror.spec.mjs --caliper build/bin/caliper [--screenshots DIR] [--frames 600]
 //
-// --screenshots DIR writes mirror-view.png (the mirror) and mirror-first-person.png (looking down).
+// --screenshots DIR writes mirror-view.png (the mirror), mirror-first-person.png (looking down) and
+// mirror-hands.png (hand tracking, the right hand pointing, in the mirror).
 // Exit: 0 pass, 1 fail, 77 skipped (no browser, no playwright-core/iwer or no body model).
 import { readFileSync, mkdirSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -27,6 +30,7 @@ import {
   screenshots, option, webRequire, skip, loadChromium, prepare, check, fail, finish, startServer, launchBrowser,
   placeTipSource,
 } from './harness.mjs';
+import { call as scriptedCall, measureSession } from '../../scripts/scripted-capture.mjs';
 
 const chromium = loadChromium();
 let iwerSource;
@@ -68,7 +72,8 @@ try {
   const pageErrors = [];
   page.on('pageerror', (e) => pageErrors.push(String(e)));
   page.on('console', (m) => {
-    if (m.type() === 'error' && !/status of 404/.test(m.text())) pageErrors.push(m.text());
+    // (404s are the page probing for endpoints; refused connections, the server killed on purpose)
+    if (m.type() === 'error' && !/status of 404|ERR_CONNECTION_REFUSED/.test(m.text())) pageErrors.push(m.text());
   });
   await page.addInitScript(`${iwerSource}
     ;(() => {
@@ -115,7 +120,8 @@ try {
     }, { head, q, left, right, wrist, ray });
     await page.evaluate(() => window.__xrFrames(2));
   }
-  const joints = () => page.evaluate(() => ({ head: window.mirror.jointWorld('head'), left: window.mirror.jointWorld('left_wrist'), right: window.mirror.jointWorld('right_wrist') }));
+  const joints = () => page.evaluate(() => ({ head: window.mirror.jointWorld('head'), left: window.mirror.jointWorld('left_wrist'), right: window.mirror.jointWorld('right_wrist'),
+    ls: window.mirror.jointWorld('left_shoulder'), rs: window.mirror.jointWorld('right_shoulder') }));
   // Where the head joint must be: the headset minus the eye offset turned with the head (the body
   // faces +Z at rest, the headset looks along −Z: a half turn about Y between them).
   const headTarget = (head, q) => {
@@ -127,8 +133,22 @@ try {
   await pose([0, eyeY, 0], [0, 0, 0, 1], [-0.2, eyeY - 0.45, -0.3], [0.2, eyeY - 0.45, -0.3]);
   await page.waitForTimeout(1200);      // the arms ease in to the controllers (0.5 s)
   await page.evaluate(() => window.__xrFrames(3));
-  let worstHead = 0, worstWrist = 0;
+  let worstHead = 0, worstWrist = 0, outOfReach = 0, worstStretch = 0;
   const STEPS = 16;
+  // A target the bent, turned body cannot reach (the spine leans with the head, the shoulders
+  // with it) gets a straight arm pointing at it; every other one, the wrist on it.
+  const armLength = await page.evaluate(() => {
+    const r = (n) => window.mirror.restJoint(n), d = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    return d(r('left_shoulder'), r('left_elbow')) + d(r('left_elbow'), r('left_wrist'));
+  });
+  const wristError = (shoulder, wrist, target) => {
+    if (dist(shoulder, target) <= armLength - 0.001) return dist(wrist, target);
+    outOfReach += 1;
+    const toTarget = target.map((c, i) => c - shoulder[i]), toWrist = wrist.map((c, i) => c - shoulder[i]);
+    const cos = toTarget.reduce((sum, c, i) => sum + c * toWrist[i], 0) / (Math.hypot(...toTarget) * Math.hypot(...toWrist));
+    worstStretch = Math.max(worstStretch, Math.abs(dist(shoulder, wrist) - armLength), 1 - cos);
+    return 0;
+  };
   for (let k = 0; k < STEPS; ++k) {
     const a = (2 * Math.PI * k) / STEPS;
     const head = [0.08 * Math.sin(a), eyeY - 0.05 * (1 - Math.cos(a)), 0.05 * Math.sin(2 * a)];
@@ -138,10 +158,12 @@ try {
     await pose(head, q, left, right);
     const j = await joints();
     worstHead = Math.max(worstHead, dist(j.head, headTarget(head, q)));
-    worstWrist = Math.max(worstWrist, dist(j.left, left), dist(j.right, right));
+    worstWrist = Math.max(worstWrist, wristError(j.ls, j.left, left), wristError(j.rs, j.right, right));
   }
   check(worstHead < TOLERANCE, `the head joint follows the headset within ${TOLERANCE * 100} cm`, `worst ${(worstHead * 1000).toFixed(2)} mm over ${STEPS} poses`);
-  check(worstWrist < TOLERANCE, `the wrists follow the controllers within ${TOLERANCE * 100} cm`, `worst ${(worstWrist * 1000).toFixed(2)} mm over ${STEPS} poses`);
+  check(worstWrist < TOLERANCE && outOfReach <= STEPS / 4, `the wrists follow the controllers within ${TOLERANCE * 100} cm`,
+    `worst ${(worstWrist * 1000).toFixed(2)} mm over ${2 * STEPS - outOfReach} reachable targets; ${outOfReach} out of reach`);
+  check(worstStretch < 0.002, 'a target out of reach gets a straight arm pointing at it', `worst ${worstStretch.toExponential(1)}`);
 
   // --- The mirror shows the avatar; hidden, it does not.
   const shotDir = screenshots ?? mkdtempSync(join(tmpdir(), 'caliper-mirror-shots-'));
@@ -199,6 +221,73 @@ try {
   await page.setViewportSize({ width: 480, height: 360 });
   await pose(ahead, [0, 0, 0, 1], [-0.2, eyeY - 0.45, -0.3], [0.2, eyeY - 0.45, -0.3]);
 
+  // --- Hand tracking (iwer's emulated hands, WebXR Hand Input): the wrists go to the tracked
+  // wrists and every finger bone of the avatar points along the tracked bone; the right hand
+  // points (index out, the other fingers curled), and the avatar's middle finger curls as much.
+  const FINGER_XR = { thumb: [1, 2, 3], index: [6, 7, 8], middle: [11, 12, 13], ring: [16, 17, 18], pinky: [21, 22, 23] };
+  await page.evaluate(({ y }) => {
+    const xr = window.__xr;
+    xr.primaryInputMode = 'hand';
+    xr.hands.left.position.set(-0.22, y - 0.4, -0.3);
+    xr.hands.left.quaternion.set(0, 0, 0, 1);
+    xr.hands.right.position.set(0.2, y - 0.3, -0.35);
+    xr.hands.right.quaternion.set(...[0.3, 0.2, 0.1].map((c) => c * 0.5), Math.sqrt(1 - 0.035));
+    xr.hands.right.poseId = 'point';
+  }, { y: eyeY });
+  await page.waitForTimeout(1200);     // the arms ease over from the controllers
+  await page.evaluate(() => window.__xrFrames(3));
+  const hands = await page.evaluate((fingers) => {
+    const out = {};
+    for (const side of ['left', 'right']) {
+      const names = [`${side}_wrist`, ...Object.keys(fingers).flatMap((f) => [1, 2, 3].map((k) => `${side}_${f}${k}`))];
+      out[side] = { tracked: window.mirror.trackedHandJoints(side), joints: Object.fromEntries(names.map((n) => [n, window.mirror.jointWorld(n)])) };
+    }
+    return out;
+  }, FINGER_XR);
+  const at = (flat, k) => [flat[3 * k], flat[3 * k + 1], flat[3 * k + 2]];
+  const sub3 = (a, b) => a.map((x, i) => x - b[i]);
+  const angleOf = (a, b) => Math.acos(Math.min(1, Math.max(-1, (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (Math.hypot(...a) * Math.hypot(...b))))) * 180 / Math.PI;
+  let worstHandWrist = 0, worstBone = 0, curls = null;
+  const tracking = check(!!hands.left.tracked && !!hands.right.tracked, 'with hand tracking the page reads both hands\' 25 joints');
+  if (tracking) {
+    for (const side of ['left', 'right']) {
+      const { tracked, joints: J } = hands[side];
+      worstHandWrist = Math.max(worstHandWrist, dist(J[`${side}_wrist`], at(tracked, 0)));
+      for (const [finger, xi] of Object.entries(FINGER_XR)) {
+        for (let k = 0; k < 2; ++k) {
+          const avatarBone = sub3(J[`${side}_${finger}${k + 2}`], J[`${side}_${finger}${k + 1}`]);
+          worstBone = Math.max(worstBone, angleOf(avatarBone, sub3(at(tracked, xi[k + 1]), at(tracked, xi[k]))));
+        }
+      }
+    }
+    const R = hands.right;
+    const bend = (f, pts) => angleOf(sub3(pts(2), pts(1)), sub3(pts(3), pts(2)));
+    curls = {
+      tracked: bend('middle', (k) => at(R.tracked, FINGER_XR.middle[0] + k - 1)),
+      avatar: bend('middle', (k) => R.joints[`right_middle${k}`]),
+      index: bend('index', (k) => at(R.tracked, FINGER_XR.index[0] + k - 1)),
+    };
+  }
+  check(worstHandWrist < TOLERANCE, `the wrists follow the tracked wrists within ${TOLERANCE * 100} cm`, `worst ${(worstHandWrist * 1000).toFixed(2)} mm`);
+  check(worstBone < 3, 'every finger bone points along the tracked bone (within 3°)', `worst ${worstBone.toFixed(2)}°`);
+  check(curls && curls.tracked > 20 && curls.index < curls.tracked && Math.abs(curls.avatar - curls.tracked) < 3,
+    'a pointing hand: the avatar\'s middle finger curls as the tracked one does, the index less', JSON.stringify(curls, (k, v) => (typeof v === 'number' ? +v.toFixed(1) : v)));
+  if (screenshots) {      // the hands raised in front of the chest, seen in the mirror
+    await page.evaluate(({ y }) => {
+      const xr = window.__xr;
+      xr.position.set(0, y, 0);
+      xr.quaternion.set(0, 0, 0, 1);
+      xr.hands.left.position.set(-0.15, y - 0.3, -0.3);
+      xr.hands.right.position.set(0.15, y - 0.2, -0.3);
+    }, { y: eyeY });
+    await page.waitForTimeout(300);
+    await shot('mirror-hands.png');
+    await page.setViewportSize({ width: 480, height: 360 });
+  }
+  await page.evaluate(() => { window.__xr.primaryInputMode = 'controller'; });
+  await page.evaluate(() => window.__xrFrames(3));
+  await pose(ahead, [0, 0, 0, 1], [-0.2, eyeY - 0.45, -0.3], [0.2, eyeY - 0.45, -0.3]);
+
   // --- Body-image tasks.
   const hasDigits = () => page.evaluate(() => window.mirror.panelText.some((t) => /\d/.test(t)));
   await page.evaluate(() => window.mirror.startLocalTask({ kind: 'show', instruction: 'how_i_look', start_weight_change_pct: -20, range_pct: [-30, 30] }));
@@ -246,6 +335,62 @@ try {
   await page.evaluate(() => window.__xrFrames(3));
   await page.evaluate(() => window.__xr.controllers.right.updateButtonValue('trigger', 0));
   check((await page.evaluate(() => window.mirror.answers.length)) === 1, 'a second trigger press answers nothing more');
+
+  // --- A task run by the experimenter on a measured session, against the real server, across
+  // two kills: the experimenter (loopback) starts an adjust task, the page in the headset picks
+  // it up; the server is killed (SIGKILL) and restarted on the same port and data; the
+  // participant adjusts (thumbstick) and confirms (a pinch, hands tracked), the page stores the
+  // answer with the restarted server, and
+  // a second kill right after that answer's 200 loses nothing.
+  if (check(serverHasMirror, 'the server has the mirror endpoints (sessions\' bodies, stored tasks)')) {
+    const port = Number(new URL(base).port);
+    const restart = async () => {
+      const exited = new Promise((r) => server.once('exit', r));
+      server.kill('SIGKILL');
+      await exited;
+      ({ child: server } = await startServer(modelsDir, dataDir, port));
+    };
+    const measured = await measureSession(base, { mode: 'self', steps: 'core', sex: 'female', weight_kg: 66 });
+    await page.evaluate(({ id, code }) => {
+      document.getElementById('session-id').value = id;
+      document.getElementById('code').value = code;
+      document.getElementById('load-session').click();     // the XR overlay covers the page
+    }, measured);
+    await page.waitForFunction((id) => window.mirror.source === 'session' && window.mirror.sessionId === id && window.mirror.model?.bodies?.length === 7 &&
+      Math.abs(window.mirror.model.bodies[3].weightKg - 66) < 0.6, measured.id, { timeout: 120000 }).catch(() => {});
+    const sessionBodies = await page.evaluate(() => window.mirror.model?.bodies?.map((b) => [b.pct, b.weightKg]) ?? null);
+    check(sessionBodies?.length === 7, 'the mirror loads the measured session\'s bodies from the server', JSON.stringify(sessionBodies));
+    const tasksPath = `/api/sessions/${measured.id}/body-image-tasks`;
+    const started = await scriptedCall(base, 'POST', tasksPath, { kind: 'adjust', instruction: 'how_i_would_like_to_look', start_weight_change_pct: 10, range_pct: [-30, 30] });
+    check(started.status === 201, 'the experimenter starts an adjust task (desktop, no code)', `${started.status} ${JSON.stringify(started.json).slice(0, 200)}`);
+    const taskId = started.json?.task?.id;
+    await page.waitForFunction((id) => window.mirror.task?.id === id, taskId, { timeout: 10000 }).catch(() => {});
+    check(await page.evaluate((id) => window.mirror.task?.id === id, taskId), 'the headset picks the task up from the server');
+    await restart();
+    check(true, 'the server is killed (SIGKILL) and restarted on the same port and data folder');
+    await push(1, 4);        // one push, thinner
+    const chosenHere = await page.evaluate(() => window.mirror.pct);
+    // The controllers put down, the participant confirms with a pinch of the tracked right hand.
+    await page.evaluate(() => { window.__xr.primaryInputMode = 'hand'; });
+    await page.evaluate(() => window.__xrFrames(3));
+    await page.evaluate(() => window.__xr.hands.right.updatePinchValue(1));
+    await page.evaluate(() => window.__xrFrames(3));
+    await page.evaluate(() => window.__xr.hands.right.updatePinchValue(0));
+    await page.waitForFunction((id) => window.mirror.answers.some((t) => t.id === id), taskId, { timeout: 15000 }).catch(() => {});
+    const acknowledged = await page.evaluate((id) => window.mirror.answers.find((t) => t.id === id) ?? null, taskId);
+    check(acknowledged?.state === 'answered', 'a pinch confirms: the page stores the answer with the restarted server', JSON.stringify(acknowledged).slice(0, 300));
+    await page.evaluate(() => { window.__xr.primaryInputMode = 'controller'; });
+    await restart();
+    const after = await scriptedCall(base, 'GET', tasksPath);
+    const kept = after.json?.tasks?.find((t) => t.id === taskId);
+    check(after.status === 200 && kept?.state === 'answered' && kept.answer.adjustments === 1 &&
+      Math.abs(kept.answer.chosen_weight_change_pct - Math.round(chosenHere * 10) / 10) < 1e-9 &&
+      JSON.stringify(kept.answer) === JSON.stringify(acknowledged.answer),
+    'after a second kill the answer is there as acknowledged: the body chosen, one push, the times', JSON.stringify(kept?.answer));
+    const csv = await fetch(`${base}/api/sessions/${measured.id}/export?format=tasks-csv`).then((r) => r.text());
+    check(csv.split('\n').some((line) => line.startsWith(`${taskId},adjust,how_i_would_like_to_look,10,`) && line.includes(',answered,')),
+      'and in the session\'s tasks CSV', csv.split('\n').slice(0, 3).join(' | '));
+  }
 
   // --- Frame time: IK + skinning + first-person and mirror renders, per XR frame.
   await page.evaluate(() => window.__xrFrames(2));

@@ -1,6 +1,8 @@
 // Unit tests of the mirror's body driver (web/src/embodiment.js) under plain node, on a hand-built
 // SMPL skeleton of a 1.7 m person: reach, reach limits, elbow and knee directions, full stretch,
-// a lost controller, planted feet and steps, a crouch, and no NaN on random or broken input.
+// a lost controller, planted feet and steps, a crouch, leaning over (the spine bends) against
+// walking (it does not), a tracked hand's wrist and fingers (WebXR Hand Input, on the same
+// skeleton with SMPL-H's finger joints), and no NaN on random or broken input.
 // Expected values come from the geometry of the set-up (targets placed by the test, bone lengths
 // of the hand-built rig), never from the driver's own output.
 import { createRequire } from 'node:module';
@@ -14,7 +16,7 @@ try {
   console.log('SKIP: three is not installed in web/ (run scripts/install-deps.sh)');
   process.exit(process.env.CALIPER_REQUIRE_TOOLS === '1' ? 1 : 77);
 }
-const { BodyDriver, wristInGrip } = await import(join(root, 'web', 'src', 'embodiment.js'));
+const { BodyDriver, XR_HAND_JOINTS, wristInGrip } = await import(join(root, 'web', 'src', 'embodiment.js'));
 
 // SMPL's 24 joints, T-pose, facing +Z, the body's left on +X, metres, feet on y = 0.
 const JOINTS = {
@@ -247,6 +249,167 @@ function boneLengthsKept(d) {
   check(threw, 'a rig without the SMPL joints is refused with the missing joint named');
 }
 
+// 7. Leaning over against walking. Leaning: the head 30 cm ahead of where it stands and 12 cm
+// lower; the spine bends forward, the pelvis stays over the feet, no step. Walking: the head
+// 30 cm ahead at standing height; the spine stays upright and the feet step.
+{
+  const horizontal = (a, b) => Math.hypot(a[0] - b[0], a[2] - b[2]);
+  // The trunk's tilt from vertical: pelvis → spine3, degrees.
+  const tilt = (d) => {
+    const p = pos(d, 'pelvis'), s3 = pos(d, 'spine3');
+    return Math.atan2(horizontal(s3, p), s3[1] - p[1]) * 180 / Math.PI;
+  };
+  const restTilt = Math.atan2(Math.hypot(JOINTS.spine3[0] - JOINTS.pelvis[0], JOINTS.spine3[2] - JOINTS.pelvis[2]),
+    JOINTS.spine3[1] - JOINTS.pelvis[1]) * 180 / Math.PI;
+  const lean = driver();
+  run(lean, 5);
+  const pelvis0 = pos(lean, 'pelvis'), ankle0 = pos(lean, 'left_ankle');
+  lean.setHead(p3(STAND_EYES.x, STAND_EYES.y - 0.12, STAND_EYES.z - 0.3), IDENTITY);   // ahead = −Z
+  run(lean, 90);
+  const bentBy = tilt(lean);
+  const ahead = pelvis0[2] - pos(lean, 'spine3')[2];
+  check(bentBy > 15 && ahead > 0, 'leaning over: the spine bends forward', `trunk ${bentBy.toFixed(1)}° from vertical`);
+  check(horizontal(pos(lean, 'pelvis'), pelvis0) < 0.02, 'leaning over: the pelvis stays over the feet',
+    `moved ${(horizontal(pos(lean, 'pelvis'), pelvis0) * 100).toFixed(1)} cm`);
+  check(lean.steps === 0 && dist(pos(lean, 'left_ankle'), ankle0) < 1e-6, 'leaning over: the feet stay planted', `${lean.steps} steps`);
+  check(dist(pos(lean, 'head'), [STAND_EYES.x, STAND_EYES.y - 0.12 - 0.07, STAND_EYES.z - 0.3 + 0.08]) < 1e-6, 'leaning over: the head stays on its target');
+  check(boneLengthsKept(lean) < 1e-6, 'leaning over: bone lengths kept');
+  // Leaning back is limited: the head far behind and low bends the spine at most 25°.
+  const back = driver();
+  run(back, 5);
+  back.setHead(p3(STAND_EYES.x, STAND_EYES.y - 0.3, STAND_EYES.z + 0.5), IDENTITY);
+  run(back, 90);
+  check(back.bendAngle <= Math.PI * 25 / 180 + 1e-9 && back.bendAngle > Math.PI * 20 / 180, 'leaning back: the bend stops at its limit', `${(back.bendAngle * 180 / Math.PI).toFixed(1)}°`);
+  const walk = driver();
+  run(walk, 5);
+  walk.setHead(p3(STAND_EYES.x, STAND_EYES.y, STAND_EYES.z - 0.3), IDENTITY);
+  run(walk, 90);
+  check(Math.abs(tilt(walk) - restTilt) < 0.01, 'walking: the spine stays upright', `trunk ${tilt(walk).toFixed(2)}°, ${restTilt.toFixed(2)}° at rest`);
+  check(walk.steps >= 1, 'walking: the feet step', `${walk.steps} steps`);
+}
+
+let handBench = null;   // the rig with fingers and a tracked hand, for --bench
+// 8. A tracked hand (WebXR Hand Input). The rig gains SMPL-H's finger joints; the user's hand is
+// the rig's own hand scaled by 1.15 (a longer hand than the avatar's), its middle finger curled
+// 50° at each joint and the thumb 20°, turned and moved in front of the body. The avatar's wrist
+// goes to the tracked wrist, each finger bone points along the tracked bone, its lengths stay.
+{
+  const FINGER_JOINTS = {};
+  const lanes = { thumb: [[0.715, 1.39, 0.03], [0.745, 1.385, 0.055], [0.77, 1.385, 0.07]],
+    index: [[0.785, 1.405, 0.02], [0.825, 1.405, 0.02], [0.85, 1.405, 0.02]],
+    middle: [[0.79, 1.405, 0], [0.835, 1.405, 0], [0.862, 1.405, 0]],
+    ring: [[0.785, 1.405, -0.02], [0.825, 1.405, -0.02], [0.85, 1.405, -0.02]],
+    pinky: [[0.775, 1.405, -0.038], [0.805, 1.405, -0.038], [0.825, 1.405, -0.038]] };
+  const names = [...NAMES], parents = [...PARENTS];
+  for (const side of ['left', 'right']) {
+    for (const [finger, points] of Object.entries(lanes)) {
+      points.forEach((p, k) => {
+        const name = `${side}_${finger}${k + 1}`;
+        FINGER_JOINTS[name] = side === 'left' ? p : [-p[0], p[1], p[2]];
+        parents.push(k === 0 ? names.indexOf(`${side}_wrist`) : names.length - 1);
+        names.push(name);
+      });
+    }
+  }
+  const ALL = { ...JOINTS, ...FINGER_JOINTS };
+  const rigH = { jointNames: names, parents, restJoints: names.flatMap((n) => ALL[n]) };
+  // The user's hand in its own rest: XR points from the rig's joints (metacarpal halfway from
+  // the wrist to the knuckle, the tip one last bone further), scaled about the wrist.
+  const side = 'right', sign = -1, wrist = ALL[`${side}_wrist`];
+  const sub = (a, b) => a.map((x, k) => x - b[k]), addv = (a, b) => a.map((x, k) => x + b[k]);
+  const scaleAbout = (p) => addv(wrist, sub(p, wrist).map((x) => 1.15 * x));
+  const fingerPoints = (finger) => {
+    const j = [1, 2, 3].map((k) => ALL[`${side}_${finger}${k}`]);
+    const tip = addv(j[2], sub(j[2], j[1]));
+    if (finger === 'thumb') return [...j, tip];
+    return [j[0].map((x, k) => (x + wrist[k]) / 2), ...j, tip];
+  };
+  // Curl: turn the finger's points beyond joint k about the hand's across axis (Z: the thumb's
+  // side is +Z) by `angle`, towards the palm (−Y).
+  const curl = (pts, from, angle) => pts.map((p, i) => {
+    if (i <= from) return p;
+    const o = pts[from], v = sub(p, o);
+    const c = Math.cos(angle), s = Math.sin(angle);
+    // Rotating about Z: +X (the left hand's fingers) goes to −Y; the right hand's fingers point −X.
+    const x = v[0] * c + sign * v[1] * s * -1, y = -sign * v[0] * s * -1 + v[1] * c;
+    return addv(o, [x, y, v[2]]);
+  });
+  let xr = [wrist];
+  for (const finger of ['thumb', 'index', 'middle', 'ring', 'pinky']) {
+    let pts = fingerPoints(finger);
+    const base = finger === 'thumb' ? 0 : 1;   // the knuckle
+    const angle = finger === 'middle' ? 50 : finger === 'thumb' ? 20 : 0;
+    for (let k = base; k < base + 3; ++k) pts = curl(pts, k, angle * Math.PI / 180);
+    xr.push(...pts);
+  }
+  xr = xr.map(scaleAbout);
+  check(xr.length === XR_HAND_JOINTS.length, 'the test builds all 25 WebXR hand joints');
+  // Then the whole hand turned 40° about a tilted axis and put in front of the body.
+  const axis = [0.3, 0.8, -0.52], n = Math.hypot(...axis), half = 20 * Math.PI / 180;
+  const Q = [...axis.map((c) => (c / n) * Math.sin(half)), Math.cos(half)];
+  const turn = (v) => {
+    const [x, y, z, w] = Q, t = [2 * (y * v[2] - z * v[1]), 2 * (z * v[0] - x * v[2]), 2 * (x * v[1] - y * v[0])];
+    return [v[0] + w * t[0] + (y * t[2] - z * t[1]), v[1] + w * t[1] + (z * t[0] - x * t[2]), v[2] + w * t[2] + (x * t[1] - y * t[0])];
+  };
+  // In front of the user (who faces −Z, the avatar turned half round: its right on +X).
+  const place = [0.25, 1.2, -0.35];
+  const tracked = xr.map((p) => addv(place, turn(sub(p, wrist)).map((x, k) => [-1, 1, -1][k] * x)));
+  const matrices = new Float32Array(16 * 25);
+  tracked.forEach((p, k) => { matrices[16 * k] = matrices[16 * k + 5] = matrices[16 * k + 10] = matrices[16 * k + 15] = 1; matrices.set(p, 16 * k + 12); });
+
+  handBench = { rig: rigH, matrices };
+  const d = new BodyDriver(rigH, EYES);
+  d.setHead(STAND_EYES, IDENTITY);
+  d.setHandJoints('right', matrices);
+  run(d, 120);
+  check(dist(pos(d, 'right_wrist'), tracked[0]) < 1e-4, 'hand tracking: the wrist is on the tracked wrist', `${(dist(pos(d, 'right_wrist'), tracked[0]) * 1000).toFixed(3)} mm`);
+  const angle = (a, b) => {
+    const dot = a.reduce((s, x, k) => s + x * b[k], 0) / (Math.hypot(...a) * Math.hypot(...b));
+    return Math.acos(Math.min(1, Math.max(-1, dot))) * 180 / Math.PI;
+  };
+  const XR_OF = { thumb: [1, 2, 3], index: [6, 7, 8], middle: [11, 12, 13], ring: [16, 17, 18], pinky: [21, 22, 23] };
+  let worst = 0, worstLength = 0;
+  for (const [finger, xi] of Object.entries(XR_OF)) {
+    for (let k = 0; k < 2; ++k) {
+      const a = pos(d, `${side}_${finger}${k + 1}`), b = pos(d, `${side}_${finger}${k + 2}`);
+      worst = Math.max(worst, angle(sub(b, a), sub(tracked[xi[k + 1]], tracked[xi[k]])));
+      worstLength = Math.max(worstLength, Math.abs(dist(a, b) - dist(ALL[`${side}_${finger}${k + 1}`], ALL[`${side}_${finger}${k + 2}`])));
+    }
+  }
+  check(worst < 0.5, 'hand tracking: every finger bone points along the tracked bone', `worst ${worst.toFixed(3)}°`);
+  check(worstLength < 1e-6, 'hand tracking: the avatar keeps its own finger lengths');
+  const middleBend = angle(sub(pos(d, 'right_middle2'), pos(d, 'right_middle1')), sub(pos(d, 'right_middle3'), pos(d, 'right_middle2')));
+  check(Math.abs(middleBend - 50) < 1, 'hand tracking: a curled finger is curled by as much', `${middleBend.toFixed(2)}° between its bones`);
+  // The palm: wrist → middle knuckle along the tracked one.
+  const palm = angle(sub(pos(d, 'right_middle1'), pos(d, 'right_wrist')), sub(tracked[11], tracked[0]));
+  check(palm < 1, 'hand tracking: the hand turns with the tracked hand', `${palm.toFixed(3)}°`);
+  // A hand with a lost joint (NaN) is not tracked: the arm eases back to hanging at the side.
+  const broken = Float32Array.from(matrices);
+  broken[16 * 7 + 13] = NaN;
+  d.setHandJoints('right', broken);
+  run(d, 90);
+  check(!d.hands.right.tracked && pos(d, 'right_wrist')[1] < pos(d, 'right_shoulder')[1] - 0.4 && allFinite(d),
+    'hand tracking: a hand with a joint lost is let go (the arm hangs, no NaN)');
+  // Random joints (degenerate hands too: all joints at one point, collinear knuckles): no NaN.
+  const rng = seeded(99), noise = new Float32Array(16 * 25);
+  let finite = true;
+  for (let i = 0; i < 3000 && finite; ++i) {
+    for (let k = 0; k < 25; ++k) {
+      const p = i % 7 === 0 ? [0.3, 1.2, -0.3] : i % 11 === 0 ? [0.3 + 0.01 * k, 1.2, -0.3] : [rng() - 0.5, 1 + rng(), rng() - 0.5];
+      noise.set(p, 16 * k + 12);
+    }
+    d.setHandJoints(i % 2 ? 'left' : 'right', noise);
+    d.update(rng() * 0.03);
+    finite = allFinite(d);
+  }
+  check(finite, 'hand tracking: 3000 random and degenerate hands, no NaN');
+  // The same hand on a rig without finger joints: not followed (nothing to turn), no error.
+  const plain = driver();
+  plain.setHandJoints('right', matrices);
+  run(plain, 5);
+  check(!plain.hands.right.tracked && allFinite(plain), 'hand tracking on a rig without fingers: ignored, no NaN');
+}
+
 // A small seeded generator (mulberry32): the random cases are the same on every run.
 function seeded(seed) {
   let a = seed >>> 0;
@@ -259,18 +422,21 @@ function seeded(seed) {
   };
 }
 
-// --bench: the driver's cost per frame (docs/performance.md "Mirror"), both controllers tracked,
-// the head and hands moving; the heap before and after shows whether frames allocate.
-if (process.argv.includes('--bench')) {
-  const d = driver();
+// --bench: the driver's cost per frame (docs/performance.md "Mirror"), the head swaying and
+// dipping (the spine bends), either both controllers tracked on SMPL's 24 joints, or both hands
+// tracked (25 joints each) on the rig with SMPL-H's fingers; the garbage collections meanwhile
+// show whether frames allocate.
+async function bench(label, d, feedHands) {
   const frames = 200000;
-  const head = p3(0, STAND_EYES.y, STAND_EYES.z), l = p3(-0.3, 1.2, -0.4), r = p3(0.3, 1.2, -0.4);
+  const head = p3(0, STAND_EYES.y, STAND_EYES.z);
   const turn = { x: 0, y: 0, z: 0, w: 1 };
   const step = (i) => {
     head.x = 0.1 * Math.sin(i * 0.01);
+    head.y = STAND_EYES.y - 0.08 * (1 - Math.cos(i * 0.007));
+    head.z = STAND_EYES.z - 0.1 * (1 - Math.cos(i * 0.007));
     turn.y = 0.3 * Math.sin(i * 0.003); turn.w = Math.sqrt(1 - turn.y * turn.y);
-    l.y = 1.2 + 0.1 * Math.sin(i * 0.02); r.z = -0.4 + 0.1 * Math.cos(i * 0.02);
-    d.setHead(head, turn); d.setHand('left', l, IDENTITY); d.setHand('right', r, IDENTITY);
+    d.setHead(head, turn);
+    feedHands(i);
     d.update(1 / 90);
   };
   for (let i = 0; i < 20000; ++i) step(i);    // warm up (JIT)
@@ -283,7 +449,20 @@ if (process.argv.includes('--bench')) {
   const ns = Number(process.hrtime.bigint() - t0) / frames;
   await new Promise((r) => setTimeout(r, 50));
   observer.disconnect();
-  console.log(`bench: ${(ns / 1000).toFixed(2)} µs per update over ${frames} frames (24 joints); ${collections} garbage collections meanwhile`);
+  console.log(`bench: ${(ns / 1000).toFixed(2)} µs per update over ${frames} frames (${label}); ${collections} garbage collections meanwhile`);
+}
+if (process.argv.includes('--bench')) {
+  const d = driver(), l = p3(-0.3, 1.2, -0.4), r = p3(0.3, 1.2, -0.4);
+  await bench('24 joints, controllers', d, (i) => {
+    l.y = 1.2 + 0.1 * Math.sin(i * 0.02); r.z = -0.4 + 0.1 * Math.cos(i * 0.02);
+    d.setHand('left', l, IDENTITY); d.setHand('right', r, IDENTITY);
+  });
+  const h = new BodyDriver(handBench.rig, EYES), moving = Float32Array.from(handBench.matrices);
+  await bench('54 joints, both hands tracked', h, (i) => {
+    for (let k = 0; k < 25; ++k) moving[16 * k + 13] = handBench.matrices[16 * k + 13] + 0.1 * Math.sin(i * 0.02);
+    h.setHandJoints('right', moving);
+    h.setHandJoints('left', moving);     // the right hand's joints for the left too: the cost, not the pose
+  });
 }
 
 console.log(failures ? `${failures} check(s) failed` : 'all checks passed');

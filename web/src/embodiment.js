@@ -15,9 +15,15 @@
 // - pelvis, spine and collars turn with the head's yaw, with a lag; the neck takes part of the
 //   head's turn; the pelvis is placed so the head joint lands exactly on its target, which keeps
 //   it under the head and lowers it (bending the knees) when the user crouches;
+// - the spine bends (forward, back, sideways) when the head is both ahead of the feet and lower
+//   than standing, by as much as both allow: leaning over bends the back, walking (ahead, not
+//   lower) moves the body and steps, crouching (lower, not ahead) bends the knees;
 // - arms and legs by analytic two-bone IK (law of cosines), elbows pulled down and out, knees
 //   forward, clamped just short of full stretch so there is always a valid triangle;
 // - a controller that stops tracking eases its arm back to hanging at the side;
+// - with WebXR hand tracking, the wrist and the hand's turn come from the tracked wrist and
+//   knuckles, and each finger joint of the rig (SMPL-H's 15 per hand) turns to the tracked
+//   bone's direction (the avatar's own finger lengths are kept);
 // - ankles stay planted on the floor and one foot at a time steps to its place under the pelvis
 //   when the pelvis has moved more than 25 cm from it, turned more than 45°, or moved so that
 //   the leg would have to stretch 1.5 cm (until then the ankle is lifted along the leg: tiptoe).
@@ -39,7 +45,16 @@ export const DEFAULTS = Object.freeze({
   stepDuration: 0.35,        // s
   stepHeight: 0.07,          // m: the foot's lift at mid-step
   reachMargin: 1e-4,         // the two-bone chains stop this fraction short of full stretch
+  maxBendForward: Math.PI * 80 / 180,   // rad: how far the spine bends forward,
+  maxBendBack: Math.PI * 25 / 180,      // back
+  maxBendSide: Math.PI * 35 / 180,      // and sideways
 });
+
+// WebXR Hand Input's 25 joints, in the order XRHand iterates them (and fillPoses fills them).
+export const XR_HAND_JOINTS = Object.freeze(['wrist',
+  'thumb-metacarpal', 'thumb-phalanx-proximal', 'thumb-phalanx-distal', 'thumb-tip',
+  ...['index-finger', 'middle-finger', 'ring-finger', 'pinky-finger'].flatMap((f) =>
+    ['metacarpal', 'phalanx-proximal', 'phalanx-intermediate', 'phalanx-distal', 'tip'].map((j) => `${f}-${j}`))]);
 
 // The wrist joint in grip space, metres (for tests that place controllers for a wrist).
 export const wristInGrip = (options = DEFAULTS) => [0, options.wristBehindGrip, 0];
@@ -51,6 +66,19 @@ const NEEDED = ['pelvis', 'spine1', 'spine2', 'spine3', 'neck', 'head', 'left_co
 
 const SIDES = ['left', 'right'];
 const TORSO = ['pelvis', 'spine1', 'spine2', 'spine3', 'left_collar', 'right_collar'];
+// Share of the spine's bend each torso joint takes, cumulative from the pelvis (the collars ride
+// on spine3): a bend spread along the back rather than a hinge at the hips.
+const BEND_SHARE = [0.25, 0.5, 0.75, 1, 1, 1];
+// SMPL-H's finger joints (name suffixes 1–3, from the knuckle out) and the XR_HAND_JOINTS indices
+// of the four points that bound their three bones: joint k's bone runs from xr[k] to xr[k + 1].
+const FINGERS = [
+  { name: 'thumb', xr: [1, 2, 3, 4] },       // SMPL-H's thumb1 sits at the thumb's metacarpal base
+  { name: 'index', xr: [6, 7, 8, 9] },
+  { name: 'middle', xr: [11, 12, 13, 14] },
+  { name: 'ring', xr: [16, 17, 18, 19] },
+  { name: 'pinky', xr: [21, 22, 23, 24] },
+];
+const XR_WRIST = 0, XR_INDEX_KNUCKLE = 6, XR_MIDDLE_KNUCKLE = 11, XR_PINKY_KNUCKLE = 21;
 const HALF_TURN_Y = new Quaternion(0, 1, 0, 0);    // the body faces +Z, an XR viewer looks along −Z
 // Rest hand → grip frame. In the T-pose a hand's fingers point out along ±X, its palm faces down
 // (−Y) and its thumb forward (+Z); holding a controller, the fingers point along the grip's −Y
@@ -88,6 +116,11 @@ class TrackedPose {
     this.position = new Vector3();
     this.orientation = new Quaternion();
     this.tracked = false;
+    // Hand tracking: the 25 joints' positions (XR_HAND_JOINTS order, flat x,y,z), and the rest
+    // hand's turn onto the tracked one; `position` is then the wrist itself, not a grip.
+    this.fromJoints = false;
+    this.joints = new Float32Array(3 * XR_HAND_JOINTS.length);
+    this.handQ = new Quaternion();
   }
 }
 
@@ -120,6 +153,14 @@ export class BodyDriver {
         other: side === 'left' ? 'right' : 'left',
       };
     }
+    // The finger chains this rig has (all three joints of a finger, SMPL-H names), per side.
+    this.fingers = {};
+    for (const side of SIDES) {
+      this.fingers[side] = FINGERS.map((f) => ({ xr: f.xr, joints: [1, 2, 3].map((k) => j[`${side}_${f.name}${k}`] ?? -1) }))
+        .filter((f) => f.joints.every((i) => i >= 0));
+      const knuckle = (f) => j[`${side}_${f}1`] ?? -1;
+      this.limbs[side].knuckles = [knuckle('index'), knuckle('middle'), knuckle('pinky')];
+    }
     this.setRest(rig.restJoints, eyeOffset);
     this.head = new TrackedPose();
     this.hands = { left: new TrackedPose(), right: new TrackedPose() };
@@ -141,6 +182,10 @@ export class BodyDriver {
     this.yawQ = new Quaternion();
     this.wristOffset = new Vector3().fromArray(wristInGrip(this.options));
     this.headQ = new Quaternion();
+    this.bendAxis = new Vector3();
+    this.bendAngle = 0;
+    this.m3 = [new Vector3(), new Vector3(), new Vector3(), new Vector3(), new Vector3(), new Vector3()];
+    this.basis = { elements: new Float64Array(16) };
   }
 
   // A new rest skeleton (the body changed shape, e.g. its weight): flat x,y,z and the eye offset.
@@ -156,6 +201,13 @@ export class BodyDriver {
       l.leg[0] = r[l.hip].distanceTo(r[l.knee]);
       l.leg[1] = r[l.knee].distanceTo(r[l.ankle]);
     }
+    // The segments from the pelvis up to the head, each with its height and the share of the
+    // bend its joint takes (the neck's: what the neck keeps of the spine's when the head is upright).
+    const j = this.index, up = ['pelvis', 'spine1', 'spine2', 'spine3', 'neck', 'head'];
+    this.spineChain = up.slice(0, -1).map((name, k) => ({
+      height: r[j[up[k + 1]]].y - r[j[name]].y,
+      share: name === 'neck' ? 1 - this.options.neckShare : BEND_SHARE[k],
+    }));
     if (!this.started) for (let i = 0; i < r.length; ++i) this.positions[i].copy(r[i]);
   }
 
@@ -169,9 +221,38 @@ export class BodyDriver {
   // A grip pose, or null when the controller is not tracked this frame.
   setHand(side, position, orientation) {
     const hand = this.hands[side];
+    hand.fromJoints = false;
     if (!position || !finitePose(position, orientation)) { hand.tracked = false; return; }
     hand.position.set(position.x, position.y, position.z);
     hand.orientation.set(orientation.x, orientation.y, orientation.z, orientation.w).normalize();
+    hand.tracked = true;
+  }
+
+  // A tracked hand (WebXR Hand Input): the 25 joint poses as XRFrame.fillPoses writes them
+  // (column-major 4×4 matrices, XR_HAND_JOINTS order; only the positions are used), or null when
+  // the hand is not tracked this frame. The wrist goes where the tracked wrist is; the hand turns
+  // so that its knuckles line up with the tracked ones; the fingers follow in update().
+  setHandJoints(side, matrices) {
+    const hand = this.hands[side], J = hand.joints;
+    hand.fromJoints = false;
+    hand.tracked = false;
+    if (!matrices || matrices.length < 16 * XR_HAND_JOINTS.length) return;
+    for (let k = 0; k < XR_HAND_JOINTS.length; ++k) {
+      const x = matrices[16 * k + 12], y = matrices[16 * k + 13], z = matrices[16 * k + 14];
+      if (!Number.isFinite(x + y + z)) return;
+      J[3 * k] = x; J[3 * k + 1] = y; J[3 * k + 2] = z;
+    }
+    const knuckles = this.limbs[side].knuckles, r = this.rest, w = this.limbs[side].wrist;
+    if (knuckles[0] < 0 || knuckles[1] < 0 || knuckles[2] < 0) return;   // a rig without fingers cannot be turned by them
+    const m = this.m3, a = m[0], b = m[1], c = m[2], d = m[3], e = m[4], f = m[5];
+    // Rest frame: wrist → middle knuckle (along the hand), pinky → index knuckle (across it).
+    a.subVectors(r[knuckles[1]], r[w]);
+    b.subVectors(r[knuckles[0]], r[knuckles[2]]);
+    c.fromArray(J, 3 * XR_MIDDLE_KNUCKLE).sub(d.fromArray(J, 3 * XR_WRIST));
+    e.fromArray(J, 3 * XR_INDEX_KNUCKLE).sub(f.fromArray(J, 3 * XR_PINKY_KNUCKLE));
+    if (!frameTurn(a, b, c, e, this.basis, hand.handQ)) return;
+    hand.position.fromArray(J, 3 * XR_WRIST);
+    hand.fromJoints = true;
     hand.tracked = true;
   }
 
@@ -193,6 +274,8 @@ export class BodyDriver {
     this.solveFeet(dt);
     this.solveArm('left', dt);
     this.solveArm('right', dt);
+    this.solveFingers('left');
+    this.solveFingers('right');
     this.solveLeg('left');
     this.solveLeg('right');
     this.forward();
@@ -220,12 +303,17 @@ export class BodyDriver {
     }
     this.yawQ.setFromAxisAngle(t1.set(0, 1, 0), this.bodyYaw);
     const R = this.rotations;
-    for (let k = 0; k < this.torso.length; ++k) this.setRotation(this.torso[k], this.yawQ);
-    this.setRotation(j.neck, this.q[0].copy(this.yawQ).slerp(this.headQ, o.neckShare));
+    const target = this.v[3].copy(this.eyeOffset).applyQuaternion(this.headQ).negate().add(this.head.position);
+    this.spineBend(target);
+    const bent = this.q[3];
+    for (let k = 0; k < this.torso.length; ++k) {
+      bent.setFromAxisAngle(this.bendAxis, this.bendAngle * BEND_SHARE[k]).multiply(this.yawQ);
+      this.setRotation(this.torso[k], bent);
+    }
+    this.setRotation(j.neck, this.q[0].copy(bent).slerp(this.headQ, o.neckShare));   // bent: spine3's
     this.setRotation(j.head, this.headQ);
     // Rotations of the joints between the pelvis and the head are known: place the pelvis so
     // the chain ends at the head target (headset minus the eye offset).
-    const target = this.v[3].copy(this.eyeOffset).applyQuaternion(this.headQ).negate().add(this.head.position);
     let cursor = j.head;
     while (cursor !== j.pelvis && cursor >= 0) {
       const parent = this.parents[cursor];
@@ -236,6 +324,35 @@ export class BodyDriver {
     this.positions[j.pelvis].copy(target);
   }
 
+  // How far the spine bends, and about which horizontal axis, for the head joint at `head`: the
+  // head's lean beyond its standing place above the planted feet, and its drop below standing
+  // height, each asks for an angle (with the pelvis staying over the feet and at its height);
+  // the spine takes the smaller, within the limits for that direction. Whatever lean is left
+  // moves the pelvis (and the feet step); whatever drop is left bends the knees. Before the feet
+  // stand (the first frame) the spine is straight.
+  spineBend(head) {
+    this.bendAngle = 0;
+    if (!this.started) return;
+    const o = this.options, j = this.index, r = this.rest;
+    const lf = this.limbs.left, rt = this.limbs.right, stand = this.v[6], lean = this.v[7];
+    // Where the head joint stands above the planted feet: the rest pose's offset from the ankles'
+    // midpoint, turned with the body.
+    stand.copy(r[j.head]).sub(this.v[8].addVectors(r[lf.ankle], r[rt.ankle]).multiplyScalar(0.5)).applyQuaternion(this.yawQ);
+    stand.add(this.v[8].addVectors(this.feet.left.planted, this.feet.right.planted).multiplyScalar(0.5));
+    lean.subVectors(head, stand);
+    const drop = r[j.head].y - head.y;
+    lean.y = 0;
+    const reach = lean.length();
+    if (!(reach > 1e-4) || !(drop > 0)) return;
+    const forward = this.v[9].set(0, 0, 1).applyQuaternion(this.yawQ);
+    const cos = lean.dot(forward) / reach, sin = Math.sqrt(Math.max(0, 1 - cos * cos));
+    const along = cos >= 0 ? o.maxBendForward : o.maxBendBack;
+    const limit = 1 / Math.hypot(cos / along, sin / o.maxBendSide);   // an ellipse through the limits
+    const chain = this.spineChain;
+    this.bendAngle = Math.min(bendFor(chain, reach, false, limit), bendFor(chain, drop, true, limit));
+    this.bendAxis.set(0, 1, 0).cross(lean).normalize();    // turning +Y towards the lean
+  }
+
   solveArm(side, dt) {
     const o = this.options, hand = this.hands[side], limb = this.limbs[side];
     // The arm's weight ramps linearly over armFadeTime and is eased (smoothstep); on the very
@@ -244,7 +361,10 @@ export class BodyDriver {
     const w0 = this.armWeight[side];
     this.armWeight[side] = !this.started ? goal : goal > w0 ? Math.min(goal, w0 + step) : Math.max(goal, w0 - step);
     const weight = this.armWeight[side] * this.armWeight[side] * (3 - 2 * this.armWeight[side]);
-    if (hand.tracked) {
+    if (hand.tracked && hand.fromJoints) {
+      this.lastWrist[side].copy(hand.position);
+      this.lastHand[side].copy(hand.handQ);
+    } else if (hand.tracked) {
       this.wristTarget(side, this.lastWrist[side]);
       this.lastHand[side].copy(hand.orientation).multiply(GRIP_TO_HAND[side]);
     }
@@ -258,6 +378,29 @@ export class BodyDriver {
     // The hand: the controller's orientation, eased like the arm.
     const handQ = this.q[1].copy(this.rotations[limb.elbow]).slerp(this.lastHand[side], weight);
     this.setRotation(limb.wrist, handQ);
+  }
+
+  // A tracked hand's fingers: each finger joint turns its bone (rest direction, as its parent
+  // turned it) onto the tracked bone's direction, keeping the parent's twist. A finger's last
+  // joint has no child in the rig: its rest direction is the previous bone's.
+  solveFingers(side) {
+    const hand = this.hands[side];
+    if (!hand.tracked || !hand.fromJoints) return;
+    const J = hand.joints, rest = this.rest, R = this.rotations, from = this.m3[0], to = this.m3[1], tip = this.m3[2];
+    const fingers = this.fingers[side];
+    for (let f = 0; f < fingers.length; ++f) {
+      const finger = fingers[f], js = finger.joints;
+      for (let k = 0; k < 3; ++k) {
+        const i = js[k];
+        if (k < 2) from.subVectors(rest[js[k + 1]], rest[i]);
+        else from.subVectors(rest[i], rest[js[1]]);
+        from.applyQuaternion(R[this.parents[i]]).normalize();
+        to.fromArray(J, 3 * finger.xr[k + 1]).sub(tip.fromArray(J, 3 * finger.xr[k]));
+        if (to.lengthSq() < 1e-12 || from.lengthSq() < 0.5) { this.setRotation(i, R[this.parents[i]]); continue; }
+        to.normalize();
+        this.setRotation(i, this.q[2].setFromUnitVectors(from, to).multiply(R[this.parents[i]]));
+      }
+    }
   }
 
   // Two-bone IK: root → mid → end reaching `target`, the mid joint bent towards `pole`. Sets the
@@ -377,6 +520,57 @@ function finitePose(p, q) {
   return p && q && Number.isFinite(p.x) && Number.isFinite(p.y) && Number.isFinite(p.z) &&
     Number.isFinite(q.x) && Number.isFinite(q.y) && Number.isFinite(q.z) && Number.isFinite(q.w) &&
     q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w > 1e-6;
+}
+
+// How far the spine chain (segments of `height`, each turned by its `share` of `angle`) moves
+// the head: ahead (sines) or down (1 − cosines).
+function chainMove(chain, angle, down) {
+  let sum = 0;
+  for (let k = 0; k < chain.length; ++k) {
+    const a = chain[k].share * angle;
+    sum += chain[k].height * (down ? 1 - Math.cos(a) : Math.sin(a));
+  }
+  return sum;
+}
+
+// The bend angle in [0, max] at which the chain moves the head by `amount` (ahead, or down);
+// both grow with the angle up to a right angle, so bisection finds it.
+function bendFor(chain, amount, down, max) {
+  if (chainMove(chain, max, down) <= amount) return max;
+  let lo = 0, hi = max;
+  for (let i = 0; i < 20; ++i) {      // to 80°/2^20: well under a thousandth of a degree
+    const mid = 0.5 * (lo + hi);
+    if (chainMove(chain, mid, down) < amount) lo = mid; else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// The rotation taking the frame built from (a, b) onto the one built from (c, d): each frame is
+// x = a, z = a × b, y = z × x, normalised. Writes it into `out`; false when either is degenerate.
+function frameTurn(a, b, c, d, scratch, out) {
+  const restQ = basisQuaternion(a, b, scratch, out);
+  if (!restQ) return false;
+  const rx = restQ.x, ry = restQ.y, rz = restQ.z, rw = restQ.w;
+  if (!basisQuaternion(c, d, scratch, out)) return false;
+  // out = tracked · rest⁻¹
+  const ix = -rx, iy = -ry, iz = -rz, iw = rw;
+  const ox = out.x, oy = out.y, oz = out.z, ow = out.w;
+  out.set(ow * ix + ox * iw + oy * iz - oz * iy, ow * iy - ox * iz + oy * iw + oz * ix,
+    ow * iz + ox * iy - oy * ix + oz * iw, ow * iw - ox * ix - oy * iy - oz * iz);
+  return true;
+}
+
+function basisQuaternion(a, b, scratch, out) {
+  const ax = a.x, ay = a.y, az = a.z, la = Math.hypot(ax, ay, az);
+  let zx = ay * b.z - az * b.y, zy = az * b.x - ax * b.z, zz = ax * b.y - ay * b.x;
+  const lz = Math.hypot(zx, zy, zz);
+  if (!(la > 1e-9) || !(lz > 1e-9 * la)) return null;
+  const xx = ax / la, xy = ay / la, xz = az / la;
+  zx /= lz; zy /= lz; zz /= lz;
+  const yx = zy * xz - zz * xy, yy = zz * xx - zx * xz, yz = zx * xy - zy * xx;
+  const m = scratch.elements;
+  m[0] = xx; m[1] = xy; m[2] = xz; m[4] = yx; m[5] = yy; m[6] = yz; m[8] = zx; m[9] = zy; m[10] = zz;
+  return out.setFromRotationMatrix(scratch);
 }
 
 function wrapAngle(a) {

@@ -6,7 +6,7 @@
 // Notes for experimenters and the IK's choices: docs/mirror.md.
 import * as THREE from 'three';
 import { Reflector } from 'three/addons/objects/Reflector.js';
-import { BodyDriver, eyeOffsetFromBody } from './embodiment.js';
+import { BodyDriver, XR_HAND_JOINTS, eyeOffsetFromBody } from './embodiment.js';
 import {
   ApiError, sessionModel, setModel, importSet, glbModel, blendBodies, currentTask, answerTask,
   localTasks, startLocalTask,
@@ -32,6 +32,7 @@ const state = {
   frameMs: new Float64Array(600),   // ring of per-frame times of the callback: IK, bones, both renders' submission
   frameInterval: new Float64Array(600),   // ring of times between frames (everything, the rasterizer too)
   localTasks,
+  handTracked: { left: false, right: false },   // this frame's hands came from hand tracking
 };
 window.mirror = state;
 
@@ -254,6 +255,11 @@ state.jointWorld = (name) => {
   return avatar.bones[i].getWorldPosition(new THREE.Vector3()).toArray();
 };
 
+// A joint of the rest skeleton the body now shows: [x, y, z] (for the e2e test's reach).
+state.restJoint = (name) => {
+  const i = avatar?.driver.jointIndex(name) ?? -1;
+  return i < 0 ? null : Array.from(avatar.joints.subarray(3 * i, 3 * i + 3));
+};
 state.avatarMesh = () => avatar?.mesh ?? null;
 // The rest body's width across the waist (60 % of its height), metres: how a weight change shows.
 state.waistWidth = () => {
@@ -311,14 +317,19 @@ function readXR(xrFrame) {
   const viewer = xrFrame.getViewerPose(ref);
   if (viewer) avatar.driver.setHead(viewer.transform.position, viewer.transform.orientation);
   grips.left.seen = grips.right.seen = false;
+  state.handTracked.left = state.handTracked.right = false;
   const sources = xrFrame.session.inputSources;
   for (let i = 0; i < sources.length; ++i) {
     const source = sources[i], hand = source.handedness;
-    if ((hand !== 'left' && hand !== 'right') || !source.gripSpace) continue;
-    const pose = xrFrame.getPose(source.gripSpace, ref);
-    if (!pose) continue;
-    grips[hand].seen = true;
-    avatar.driver.setHand(hand, pose.transform.position, pose.transform.orientation);
+    if (hand !== 'left' && hand !== 'right') continue;
+    if (source.hand && readHandJoints(xrFrame, source, ref)) {
+      grips[hand].seen = state.handTracked[hand] = true;
+    } else {
+      const pose = source.gripSpace ? xrFrame.getPose(source.gripSpace, ref) : null;
+      if (!pose) continue;
+      grips[hand].seen = true;
+      avatar.driver.setHand(hand, pose.transform.position, pose.transform.orientation);
+    }
     const pad = source.gamepad;
     if (!pad) continue;
     const y = pad.axes.length >= 4 ? pad.axes[3] : pad.axes[1] ?? 0;
@@ -332,6 +343,23 @@ function readXR(xrFrame) {
   if (!grips.left.seen) avatar.driver.setHand('left', null, null);
   if (!grips.right.seen) avatar.driver.setHand('right', null, null);
 }
+
+// A tracked hand (WebXR Hand Input, where the headset offers it): its 25 joint poses in one call
+// into a buffer kept per hand, handed to the driver. False when some joint has no pose.
+const handPoses = { left: new Float32Array(16 * XR_HAND_JOINTS.length), right: new Float32Array(16 * XR_HAND_JOINTS.length) };
+const handSpaces = new WeakMap();   // XRHand → its joint spaces in XR_HAND_JOINTS order
+function readHandJoints(xrFrame, source, ref) {
+  let spaces = handSpaces.get(source.hand);
+  if (!spaces) {
+    spaces = XR_HAND_JOINTS.map((name) => source.hand.get(name));
+    handSpaces.set(source.hand, spaces);
+  }
+  if (spaces.some((space) => !space) || !xrFrame.fillPoses?.(spaces, ref, handPoses[source.handedness])) return false;
+  avatar.driver.setHandJoints(source.handedness, handPoses[source.handedness]);
+  return avatar.driver.hands[source.handedness].fromJoints;
+}
+// The tracked joints' positions of a hand this frame (for the e2e test): flat x,y,z, or null.
+state.trackedHandJoints = (side) => (state.handTracked[side] ? Array.from(avatar.driver.hands[side].joints) : null);
 
 // ---------------------------------------------------------------------------------------------
 // Body-image tasks
@@ -456,7 +484,7 @@ async function loadFile(file) {
 async function enterVR() {
   if (!navigator.xr || !state.model) return;
   try {
-    const session = await navigator.xr.requestSession('immersive-vr', { requiredFeatures: ['local-floor'] });
+    const session = await navigator.xr.requestSession('immersive-vr', { requiredFeatures: ['local-floor'], optionalFeatures: ['hand-tracking'] });
     await renderer.xr.setSession(session);
     state.inXR = true;
     document.body.dataset.xr = 'on';
