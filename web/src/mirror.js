@@ -347,14 +347,15 @@ function readXR(xrFrame) {
 // A tracked hand (WebXR Hand Input, where the headset offers it): its 25 joint poses in one call
 // into a buffer kept per hand, handed to the driver. False when some joint has no pose.
 const handPoses = { left: new Float32Array(16 * XR_HAND_JOINTS.length), right: new Float32Array(16 * XR_HAND_JOINTS.length) };
-const handSpaces = new WeakMap();   // XRHand → its joint spaces in XR_HAND_JOINTS order
+const handSpaces = new WeakMap();   // XRHand → its joint spaces in XR_HAND_JOINTS order, or null if some is missing
 function readHandJoints(xrFrame, source, ref) {
   let spaces = handSpaces.get(source.hand);
-  if (!spaces) {
+  if (spaces === undefined) {      // once per hand, not per frame
     spaces = XR_HAND_JOINTS.map((name) => source.hand.get(name));
+    if (spaces.some((space) => !space)) spaces = null;
     handSpaces.set(source.hand, spaces);
   }
-  if (spaces.some((space) => !space) || !xrFrame.fillPoses?.(spaces, ref, handPoses[source.handedness])) return false;
+  if (!spaces || !xrFrame.fillPoses?.(spaces, ref, handPoses[source.handedness])) return false;
   avatar.driver.setHandJoints(source.handedness, handPoses[source.handedness]);
   return avatar.driver.hands[source.handedness].fromJoints;
 }
