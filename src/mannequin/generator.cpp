@@ -232,6 +232,20 @@ void fit_depths(TorsoRing& r, double front, double back) {
   }
 }
 
+// The skull above the glabella ring: a quarter-superellipse of exponent kDomeE in profile, at
+// superellipse angle th (0: the glabella ring, π/2: the vertex). With 2, a quarter-ellipse, the
+// forehead slopes back from the brow and the crown comes to a point (an egg); a real forehead
+// rises nearly upright for a few centimetres and the crown is broad.
+constexpr double kDomeE = 2.6;
+TorsoRing dome_ring(const TorsoRing& glabella, double vertex_y, double hs, double th) {
+  TorsoRing r = glabella;
+  r.y = glabella.y + (vertex_y - glabella.y) * std::pow(std::sin(th), 2 / kDomeE);
+  const double c = std::pow(std::cos(th), 2 / kDomeE);
+  r.a *= c; r.df *= c; r.db *= c * (1 - 0.03 * (1 - c));  // the back flattens gradually: no step at the glabella ring
+  r.cz = glabella.cz - 0.012 * hs * (1 - c);
+  return r;
+}
+
 // How a ring too small for its circumference grows (the circumference is always kept).
 enum class Growth { Depth, BreadthAndDepth };
 
@@ -662,7 +676,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.cz = 0.0;
     r.df = std::lerp(K[kWaist].df, K[kChest].df, female ? 0.5 : 0.7);
     r.db = std::lerp(K[kWaist].db, K[kChest].db, 0.6);
-    r.p = 0.5 * (K[kWaist].p + K[kChest].p);
+    r.p = std::min(0.5 * (K[kWaist].p + K[kChest].p), 3.5);
     r.glute = 0;
     K[kUnderBust] = r;
     r = K[kChest];
@@ -735,14 +749,14 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // of the neck stays straight (a slight hollow only) up to the skull.
     r.a = std::max(0.7 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) - 0.004 * hs; r.df = 0.78 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
-    r.front_taper = 0.35;  // the jaw narrows toward the chin: a U from the front, not a box
+    r.front_taper = 0.5;  // the jaw narrows toward the chin: a U from the front, not a box
     K[kChin] = r;
     // The back of the neck runs up to the occiput; the skull bulges out only above it.
     r.y = y_mouth; r.a = std::max(0.8 * hb2, r.a + 0.003 * hs);  // never narrower than the jaw below
     r.df = 0.84 * hl2;
     r.db = 0.35 * (K[kNeck].db + (head_cz - K[kNeck].cz)) + 0.65 * 0.82 * hl2;
     r.chin = 0.004 * hs;
-    r.front_taper = 0.2;
+    r.front_taper = 0.32;
     K[kMouth] = r;
     TorsoRing g;
     g.y = y_g; g.cz = head_cz;
@@ -752,7 +766,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // below it), or the back of the head shows a groove under the glabella ring.
     r.y = y_nose; r.a = 0.92 * hb2; r.df = 0.86 * hl2; r.db = 0.93 * g.db; r.p = 0.5 * (2.2 + g.p);
     r.chin = 0; r.nose = 0;  // the nose itself: sculpt()
-    r.front_taper = 0.05;
+    r.front_taper = 0.15;
     K[kNose] = r;
   }
 
@@ -770,10 +784,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   // A knot on the dome (as the dome rings below compute it) gives the head's profile a level
   // tangent at the glabella ring, its widest: the face rings meet the dome without a band.
   {
-    const TorsoRing& g = K[kGlabella];
-    const double c = std::sqrt(1 - 0.3 * 0.3);
-    ky.push_back(g.y + 0.3 * (d.S - g.y)); ka.push_back(g.a * c); kdf.push_back(g.df * c); kdb.push_back(g.db * c * (1 - 0.03 * (1 - c)));
-    kcz.push_back(g.cz - 0.012 * hs * (1 - c)); kp.push_back(g.p); kbust.push_back(0); kglute.push_back(0);
+    const TorsoRing r = dome_ring(K[kGlabella], d.S, hs, std::asin(std::pow(0.3, kDomeE / 2)));
+    ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db);
+    kcz.push_back(r.cz); kp.push_back(r.p); kbust.push_back(0); kglute.push_back(0);
     knose.push_back(0); kchin.push_back(0); kfront_taper.push_back(0);
   }
   // The bust needs its own profile: fuller below the apex, fading toward the axilla.
@@ -875,17 +888,13 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       }
     }
   }
-  // Dome: quarter-ellipse from the glabella ring to the vertex.
+  // Dome: a quarter-superellipse from the glabella ring to the vertex (dome_ring).
   P.head_top = d.S;
-  for (int i = 1; i <= kDomeRings; ++i) {
-    const double th = (kPi / 2) * i / (kDomeRings + 0.6);
-    TorsoRing r = K[kGlabella];
-    r.y = y_g + (d.S - y_g) * std::sin(th);
-    const double c = std::cos(th);
-    r.a *= c; r.df *= c; r.db *= c * (1 - 0.03 * (1 - c));  // the back flattens gradually: no step at the glabella ring
-    r.cz = K[kGlabella].cz - 0.012 * hs * (1 - c);
-    P.torso[static_cast<size_t>(kg + i)] = r;
-  }
+  for (int i = 1; i <= kDomeRings; ++i)
+    // Angles bunched toward the glabella ring: evenly spaced ones would leave the first dome ring
+    // 2 cm above a face whose rings are 5 mm apart, and the forehead shades a line there.
+    P.torso[static_cast<size_t>(kg + i)] =
+        dome_ring(K[kGlabella], d.S, hs, (kPi / 2) * std::pow(i / (kDomeRings + 0.6), 1.25));
   P.crotch_y = y_cr;
 
   // -- Legs (left; the right leg mirrors it).
@@ -1983,9 +1992,12 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // Face, in head centimetres from the glabella (X across, Y up).
         const double X = x / hu, Y = (y - y_g) / (hu * face);
         double f = 0;
-        f += 0.45 * blob(X - 2.9, Y + 0.6, 2.6, 0.55);   // brow ridge, under the glabella ring
-        f -= 0.90 * blob(X - 3.2, Y + 2.35, 2.0, 1.35);  // eye socket
-        f += 0.30 * blob(X - 3.2, Y + 2.45, 1.2, 0.75);  // the eye (lids) inside it
+        // Brow ridge, under the glabella ring, ending level at it (that ring carries the head's
+        // measures and does not move: a ridge that stops short of it shades a line across the forehead).
+        f += 0.40 * blob(X - 2.9, Y + 1.3, 2.8, 1.3);
+        f -= 0.85 * blob(X - 3.1, Y + 2.35, 1.8, 1.35);  // eye socket
+        f += 0.42 * blob(X - 3.1, Y + 2.45, 1.2, 0.8);   // the eye (lids) inside it
+        f += 0.22 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
         f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
         // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
         {
@@ -2002,9 +2014,11 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // front weight ends, and upward into the brow, whose ring carries the head's measures).
         {
           const double q = sq(X / 4.0);
-          f -= 1.0 * q * std::exp(1 - q) * smoothstep(0.5, 6.0, -Y) * (1 - smoothstep(11.0, 14.0, -Y));
+          f -= 1.0 * q * std::exp(1 - q) * smoothstep(0.5, 6.0, -Y) * (1 - smoothstep(11.0, 14.0, -Y)) *
+               (1 - smoothstep(4.0, 7.5, X));  // fading before the front weight does, or its edge is a rim
         }
         f += 0.40 * blob(X - 4.0, Y + 4.0, 1.8, 1.1);    // cheekbone
+        f += 0.30 * blob(X - 3.0, Y + 5.6, 1.8, 1.8);    // the cheek's fullness under it
         f += 0.38 * blob(X, Y + 7.75, 2.4, 0.75);        // upper lip
         f += 0.32 * blob(X, Y + 9.1, 2.0, 0.7);          // lower lip
         f -= 0.35 * blob(X, Y + 8.45, 2.7, 0.35);        // mouth line

@@ -119,6 +119,13 @@ std::vector<std::string> relief_failures(const BodyModel& model, const Vertices&
   check(lower_lip - fold >= 0.15 * hu && chin - fold >= 0.1 * hu,
         "fold between lower lip and chin: lip " + std::to_string((lower_lip - g.z()) / hu) + " fold " + std::to_string((fold - g.z()) / hu) + " chin " + std::to_string((chin - g.z()) / hu),
         std::min(lower_lip - fold, chin - fold));
+  // Forehead: the skull rises nearly upright above the brow. Six head-cm above the glabella the
+  // forehead's front is at most 1.4 head-cm behind it (a quarter-ellipse dome, an egg, left it
+  // about 2 head-cm behind).
+  {
+    const double forehead = extreme_z(cut(v, f, g.y() + 6 * hu), 0, 0.7 * hu, +1);
+    check(g.z() - forehead <= 1.4 * hu, "forehead upright above the brow", g.z() - forehead);
+  }
   // Ears: at ear level the head reaches out to about its breadth at the glabella, its widest
   // (the lofted head is 8 % narrower there).
   {
