@@ -60,13 +60,18 @@ Pose stride_pose(const BodyModel& model) {
 
 Pose fist_pose(const BodyModel& model) {
   Pose pose = zero_pose(model);
-  // Left hand (fingers along +X, palm down): flexion turns +X towards −Y, a rotation about −Z;
-  // the thumb (along +X+Z, a little down) folds about the axis across it. The right hand's axes
-  // are the mirror images (x kept, y and z negated: rotations are axial vectors).
-  const Eigen::Vector3d finger_axis(0, 0, -1), thumb_axis = Eigen::Vector3d(0.55, 0, -0.85).normalized();
-  auto mirrored = [](const Eigen::Vector3d& a) { return Eigen::Vector3d(a.x(), -a.y(), -a.z()); };
+  // Left hand (fingers along +X, palm down): flexion turns +X towards −Y, a rotation about −Z.
+  // The thumb (along +X+Z, a little down) opposes: its first joint swings it under the palm about
+  // the hand's long axis (+X) while it flexes, so the last two, flexing about the axis across the
+  // thumb (~(0.55, 0, −0.85)) with a share about +X, lay it across the index and middle fingers
+  // (flexing alone, it hooked forward beside the fist). Axis-angle vectors in degrees. The right
+  // hand's axes are the mirror images (x kept, y and z negated: rotations are axial vectors).
   constexpr double kDeg = M_PI / 180;
-  constexpr double kFinger[3] = {80 * kDeg, 95 * kDeg, 60 * kDeg}, kThumb[3] = {25 * kDeg, 40 * kDeg, 50 * kDeg};
+  const Eigen::Vector3d finger_axis(0, 0, -1);
+  const Eigen::Vector3d thumb[3] = {Eigen::Vector3d(70, 0, -25) * kDeg, Eigen::Vector3d(30, 0, -40) * kDeg,
+                                    Eigen::Vector3d(30, 0, -45) * kDeg};
+  auto mirrored = [](const Eigen::Vector3d& a) { return Eigen::Vector3d(a.x(), -a.y(), -a.z()); };
+  constexpr double kFinger[3] = {95 * kDeg, 115 * kDeg, 75 * kDeg};  // knuckle, middle and end joints
   bool has_fingers = false;
   for (const char* side : {"left", "right"}) {
     const bool left = side[0] == 'l';
@@ -75,9 +80,8 @@ Pose fist_pose(const BodyModel& model) {
         const int j = joint_index(model, std::string(side) + "_" + finger + std::to_string(k + 1));
         if (j < 0) continue;
         has_fingers = true;
-        const bool thumb = finger[0] == 't';
-        const Eigen::Vector3d axis = thumb ? thumb_axis : finger_axis;
-        pose.row(j) = ((left ? axis : mirrored(axis)) * (thumb ? kThumb[k] : kFinger[k])).transpose();
+        const Eigen::Vector3d r = finger[0] == 't' ? thumb[k] : Eigen::Vector3d(finger_axis * kFinger[k]);
+        pose.row(j) = (left ? r : mirrored(r)).transpose();
       }
   }
   if (!has_fingers)

@@ -394,6 +394,19 @@ TEST(MannequinGenerator, FistPoseClosesBothHands) {
     const double open = (v.row(tip).transpose() - wrist).norm(), closed = (posed.row(tip).transpose() - wrist).norm();
     EXPECT_LT(closed, 0.65 * open) << side;
     EXPECT_LT(posed(tip, 1), v(tip, 1) - 0.01) << side;
+    // The thumb is opposed, lying across the fingers: its last segment is under the palm (below
+    // the index knuckle) and has crossed the index finger towards the little finger (the fingers
+    // run from index at +Z to little at −Z on both hands).
+    const int thumb3 = joint_named(model, std::string(side) + "_thumb3");
+    const Eigen::Vector3d index1 = j.row(joint_named(model, std::string(side) + "_index1")).transpose();
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int i = 0; i < posed.rows(); ++i)
+      if (mq::topology().skin_weights.coeff(i, thumb3) > 0.5) { sum += posed.row(i).transpose(); ++n; }
+    ASSERT_GT(n, 0) << side;
+    const Eigen::Vector3d end = sum / n;
+    EXPECT_LT(end.y(), index1.y() - 0.01) << side << ": thumb's end under the palm";
+    EXPECT_LT(end.z(), index1.z()) << side << ": thumb's end across the index finger";
   }
   // Nothing but the hands moves.
   EXPECT_LT((posed.row(mq::topology().landmarks.at("vertex")) - v.row(mq::topology().landmarks.at("vertex"))).norm(), 1e-12);
