@@ -91,6 +91,10 @@ enum TorsoKey {
 // The face (chin → mouth → nose → glabella) has rings about 5 mm apart, so the relief (sculpt())
 // can draw lips, nose and eye sockets.
 constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 3, 8, 8, 10};
+// The jaw's lower border rises from the chin to the angle of the jaw: the chin ring's sides are
+// lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
+// from the front the jaw is a U meeting the neck below its angles, not a level shelf.
+constexpr double kJawLift = 0.15;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 
 // Leg stations (below the theta ring r0) and intervals.
@@ -518,6 +522,7 @@ struct BodyPlan {  // everything the builder needs, derived from the dimensions
   // so tilting them re-samples the same surface instead of bending it.
   std::vector<bool> torso_resample;
   std::vector<double> torso_pitch;  // per ring: y offset at the back, half of it at the sides (head rings)
+  std::vector<double> torso_jaw_lift;  // per ring: y offset at the sides of the face, none at its midline
   std::function<TorsoRing(double)> torso_profile;  // ring parameters at any height
   std::function<double(double)> hip_outline;       // the side's half-breadth from thigh to hip
   std::vector<LegRing> leg;      // per ring index ≥ 1 (index 0 unused)
@@ -747,7 +752,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.cz = head_cz;
     // The head's centre sits forward of the neck's: the back radius grows by that offset so the back
     // of the neck stays straight (a slight hollow only) up to the skull.
-    r.a = std::max(0.7 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) - 0.004 * hs; r.df = 0.78 * hl2; r.p = 2.2;
+    r.a = std::max(0.78 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) - 0.004 * hs; r.df = 0.78 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
     r.front_taper = 0.5;  // the jaw narrows toward the chin: a U from the front, not a box
     K[kChin] = r;
@@ -802,6 +807,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   P.torso_tilt_flank.assign(static_cast<size_t>(nt), 0.0);
   P.torso_resample.assign(static_cast<size_t>(nt), false);
   P.torso_pitch.assign(static_cast<size_t>(nt), 0.0);
+  P.torso_jaw_lift.assign(static_cast<size_t>(nt), 0.0);
   const double bust_t = K[kChest].bust_t, bust_w = K[kChest].bust_w;
   P.torso_profile = [=](double y) {
     TorsoRing r;
@@ -874,17 +880,21 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   {
     const double span = y_g - y_chin_c;
     const int kc = torso_key_ring(kCervicale), kch = torso_key_ring(kChin), kgl = torso_key_ring(kGlabella);
-    const std::array<std::pair<int, double>, 4> keys = {{{kc, 0.0}, {kch, 0.30 * span},
-                                                        {torso_key_ring(kMouth), 0.18 * span}, {torso_key_ring(kNose), 0.06 * span}}};
+    // Per key ring: the pitch (back raised) and the jaw's lift (sides raised; see build()).
+    struct Key { int ring; double pitch, jaw; };
+    const std::array<Key, 4> keys = {{{kc, 0.0, 0.0}, {kch, 0.30 * span, kJawLift * span},
+                                      {torso_key_ring(kMouth), 0.18 * span, 0.4 * kJawLift * span},
+                                      {torso_key_ring(kNose), 0.06 * span, 0.0}}};
     for (size_t i = 0; i < keys.size(); ++i) {
-      const int k0 = keys[i].first, k1 = i + 1 < keys.size() ? keys[i + 1].first : kgl;
-      const double p0 = keys[i].second, p1 = i + 1 < keys.size() ? keys[i + 1].second : 0.0;
+      const int k0 = keys[i].ring, k1 = i + 1 < keys.size() ? keys[i + 1].ring : kgl;
+      const Key next = i + 1 < keys.size() ? keys[i + 1] : Key{kgl, 0.0, 0.0};
       // Into the level glabella ring the pitch eases out (zero slope), or the back and sides of
       // the head would fold along that ring.
       const bool last = i + 1 == keys.size();
       for (int k = k0; k < k1; ++k) {
         const double u = static_cast<double>(k - k0) / (k1 - k0);
-        P.torso_pitch[static_cast<size_t>(k)] = last ? p0 * (1 - u) * (1 - u) : std::lerp(p0, p1, u);
+        P.torso_pitch[static_cast<size_t>(k)] = last ? keys[i].pitch * (1 - u) * (1 - u) : std::lerp(keys[i].pitch, next.pitch, u);
+        P.torso_jaw_lift[static_cast<size_t>(k)] = std::lerp(keys[i].jaw, next.jaw, u);
       }
     }
   }
@@ -1266,7 +1276,8 @@ void build(const BodyPlan& P, Builder& B) {
       const double y = r.y + P.torso_tilt_side[static_cast<size_t>(k)] * s * s +
                        P.torso_tilt_flank[static_cast<size_t>(k)] * smoothstep(0.45, 0.95, s * s) +
                        P.torso_tilt_back[static_cast<size_t>(k)] * std::max(0.0, -c) * std::max(0.0, -c) +
-                       P.torso_pitch[static_cast<size_t>(k)] * 0.5 * (1 - c);
+                       P.torso_pitch[static_cast<size_t>(k)] * 0.5 * (1 - c) +
+                       P.torso_jaw_lift[static_cast<size_t>(k)] * s * s * smoothstep(-1.0, 0.4, c);
       const auto q = P.torso_resample[static_cast<size_t>(k)] ? torso_xz(P.torso_profile(y), t) : torso_xz(r, t);
       const double x = (jj == 0 || jj == kTorsoN / 2) ? 0.0 : (j == jj ? q.x() : -q.x());
       B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)] =
