@@ -752,7 +752,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.cz = head_cz;
     // The head's centre sits forward of the neck's: the back radius grows by that offset so the back
     // of the neck stays straight (a slight hollow only) up to the skull.
-    r.a = std::max(0.78 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) - 0.004 * hs; r.df = 0.78 * hl2; r.p = 2.2;
+    r.a = std::max(0.78 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = 0.78 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
     r.front_taper = 0.5;  // the jaw narrows toward the chin: a U from the front, not a box
     K[kChin] = r;
@@ -1982,6 +1982,11 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
   const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
   const double head_cz = glab.cz;
+  auto back_y = [&](int key) {  // the height of a key ring's back, pitched
+    const size_t k = static_cast<size_t>(torso_key_ring(key));
+    return P.torso[k].y + P.torso_pitch[k];
+  };
+  const double y_nape0 = back_y(kMouth), y_nape1 = std::max(back_y(kNose), y_nape0 + 0.5 * cm);
   // The face's height, glabella to chin, as a share of its usual 13.06 head centimetres (less
   // where a short neck lifts the chin ring): the face's features are laid out over it.
   const double face = std::clamp((y_g - ring_y(kChin)) / (13.06 * hu), 0.3, 1.0);
@@ -2050,6 +2055,15 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         const double side = smoothstep(0.55, 0.85, s);
         const double ear = 0.85 * blob(Y + 4.3, Z + 1.1, 2.8, 1.6) - 0.40 * blob(Y + 4.6, Z + 0.7, 1.3, 0.8);
         h += side * ear * hu;
+        // The nape: the back of the neck curves out into the occiput. The rings' pitch brings the
+        // mouth and nose rings' backs within ~2 cm of each other, and the skull's underside between
+        // them met the straight neck in a roll (a helmet's rim from behind); this fills the hollow
+        // under it.
+        {
+          const double dy = y - y_nape0, span = y_nape1 - y_nape0;
+          const double prof = dy > 0 ? blob(dy, 0, 1.2 * span, 1) : blob(dy, 0, 2.2 * span, 1);
+          h += back * 0.8 * hu * prof * blob(x, 0, 1.4 * glab.a, 1);
+        }
       }
       // Torso, front.
       {
