@@ -294,11 +294,15 @@ struct LegRing {
   // Feet only: the front half's exponent (0: p), and how far the front's lateral corner falls
   // back (the toes' line slants from the big toe to the little one).
   double p_front = 0, toe_slant = 0;
+  // Feet only: the back half narrows toward the heel by this share (x × (1 − heel·c²)), and the
+  // medial side further where the arch is (behind the ball: the arch's share at c² = ½).
+  double heel = 0, arch = 0;
 };
 Eigen::Vector2d leg_xz(const LegRing& r, double phi) {  // left leg: lateral = +X
   const double s = std::sin(phi), c = std::cos(phi);
   const double e = 2.0 / (c > 0 && r.p_front > 0 ? r.p_front : r.p);
-  double x = r.xc + (s >= 0 ? r.al : r.am) * spow(s, e);
+  double x = r.xc + (s >= 0 ? r.al : r.am) * spow(s, e) *
+                       (c < 0 ? 1 - r.heel * c * c - (s < 0 ? 4 * r.arch * c * c * (1 - c * c) : 0.0) : 1.0);
   double z = r.zc + (c >= 0 ? r.bf : r.bb) * spow(c, e);
   if (c > 0 && s > 0) z -= r.toe_slant * c * c * s;
   if (r.calf != 0) z -= r.calf * std::exp(-std::pow((std::abs(std::remainder(phi, 2 * kPi)) - kPi) / 0.9, 2));
@@ -1066,6 +1070,11 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       // Towards the sole the front squares off (the toes' broad front) and slants back laterally.
       r.p_front = std::lerp(2.2, 3.4, u * u);
       r.toe_slant = 0.12 * fl * u * u;
+      // The footprint: its back half narrows toward the heel (by up to 30 % at the sole), the arch
+      // drawn in on the inside; a symmetric outline made the heel as broad as the ball, a slipper
+      // from behind. The breadth and length, at c = 0 and c = ±1, are untouched.
+      r.heel = 0.3 * std::pow(u, 1.5);
+      r.arch = 0.15 * u * u;
       if (i == kFootLevels.size()) {  // the sole: a little inside the ring above, on the floor
         const LegRing& up = P.leg[static_cast<size_t>(kf0 + static_cast<int>(i) - 1)];
         r = up;
