@@ -301,8 +301,9 @@ struct LegRing {
 Eigen::Vector2d leg_xz(const LegRing& r, double phi) {  // left leg: lateral = +X
   const double s = std::sin(phi), c = std::cos(phi);
   const double e = 2.0 / (c > 0 && r.p_front > 0 ? r.p_front : r.p);
-  double x = r.xc + (s >= 0 ? r.al : r.am) * spow(s, e) *
-                       (c < 0 ? 1 - r.heel * c * c - (s < 0 ? 4 * r.arch * c * c * (1 - c * c) : 0.0) : 1.0);
+  // The back half's share of its half-breadth, narrowed toward the heel and at the arch.
+  const double width = c < 0 ? 1 - r.heel * c * c - (s < 0 ? 4 * r.arch * c * c * (1 - c * c) : 0.0) : 1.0;
+  double x = r.xc + (s >= 0 ? r.al : r.am) * spow(s, e) * width;
   double z = r.zc + (c >= 0 ? r.bf : r.bb) * spow(c, e);
   if (c > 0 && s > 0) z -= r.toe_slant * c * c * s;
   if (r.calf != 0) z -= r.calf * std::exp(-std::pow((std::abs(std::remainder(phi, 2 * kPi)) - kPi) / 0.9, 2));
@@ -1264,6 +1265,16 @@ void emit_digit(Builder& B, const std::vector<std::vector<int>>& rings, int pole
   B.fan(rings.back(), pole, flip);
 }
 
+// The height of torso ring k's point at angle t (s = sin t, c = cos t): the ring's level, raised
+// by its tilts (sides, flanks, back), its pitch (the head's back) and the jaw's lift (the face's
+// sides). build() places the rings with it; sculpt() finds where a ring's back ended up.
+double torso_point_y(const BodyPlan& P, int k, double s, double c) {
+  const size_t i = static_cast<size_t>(k);
+  return P.torso[i].y + P.torso_tilt_side[i] * s * s + P.torso_tilt_flank[i] * smoothstep(0.45, 0.95, s * s) +
+         P.torso_tilt_back[i] * std::max(0.0, -c) * std::max(0.0, -c) + P.torso_pitch[i] * 0.5 * (1 - c) +
+         P.torso_jaw_lift[i] * s * s * smoothstep(-1.0, 0.4, c);
+}
+
 // Emits triangle t facing `outward`.
 void emit_facing(Builder& B, const std::array<int, 3>& t, const Vec3& outward) {
   const Vec3 &a = B.v[static_cast<size_t>(t[0])], &b = B.v[static_cast<size_t>(t[1])], &c = B.v[static_cast<size_t>(t[2])];
@@ -1282,11 +1293,7 @@ void build(const BodyPlan& P, Builder& B) {
       const int jj = j <= kTorsoN / 2 ? j : kTorsoN - j;
       const double t = 2 * kPi * jj / kTorsoN;
       const double s = std::sin(t), c = std::cos(t);
-      const double y = r.y + P.torso_tilt_side[static_cast<size_t>(k)] * s * s +
-                       P.torso_tilt_flank[static_cast<size_t>(k)] * smoothstep(0.45, 0.95, s * s) +
-                       P.torso_tilt_back[static_cast<size_t>(k)] * std::max(0.0, -c) * std::max(0.0, -c) +
-                       P.torso_pitch[static_cast<size_t>(k)] * 0.5 * (1 - c) +
-                       P.torso_jaw_lift[static_cast<size_t>(k)] * s * s * smoothstep(-1.0, 0.4, c);
+      const double y = torso_point_y(P, k, s, c);
       const auto q = P.torso_resample[static_cast<size_t>(k)] ? torso_xz(P.torso_profile(y), t) : torso_xz(r, t);
       const double x = (jj == 0 || jj == kTorsoN / 2) ? 0.0 : (j == jj ? q.x() : -q.x());
       B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)] =
@@ -1991,10 +1998,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
   const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
   const double head_cz = glab.cz;
-  auto back_y = [&](int key) {  // the height of a key ring's back, pitched
-    const size_t k = static_cast<size_t>(torso_key_ring(key));
-    return P.torso[k].y + P.torso_pitch[k];
-  };
+  auto back_y = [&](int key) { return torso_point_y(P, torso_key_ring(key), 0.0, -1.0); };
   const double y_nape0 = back_y(kMouth), y_nape1 = std::max(back_y(kNose), y_nape0 + 0.5 * cm);
   // The face's height, glabella to chin, as a share of its usual 13.06 head centimetres (less
   // where a short neck lifts the chin ring): the face's features are laid out over it.
