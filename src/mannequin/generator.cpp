@@ -1,7 +1,8 @@
 // The built-in body generator: ANSUR II dimensions → a closed fixed-topology mesh in a
 // T-pose. Construction: lofted rings. The torso, neck and head are one stack of horizontal
 // rings (y = const) closed by a pole at the vertex; each leg is a stack of horizontal rings
-// ending in a foot whose rings morph into the footprint and whose sole is zipped flat on y = 0;
+// ending in a foot whose rings morph into the footprint and whose sole is zipped flat on y = 0,
+// with five toe tubes growing like the thumb from holes in the forefoot's front;
 // each arm is a stack of rings in planes x = const, starting from a rectangular hole in the
 // torso's side (the armpit), ending in a mitten hand with a thumb tube growing from a hole in
 // the hand's radial side. The crotch joins the torso's bottom ring to the two legs through a
@@ -102,6 +103,28 @@ enum LegKey { kLegTop, kThigh, kLowerThigh, kKnee, kCalf, kAnkle, kMalleolus, kL
 constexpr std::array<int, kLegKeyCount - 1> kLegIntervals = {1, 8, 3, 5, 7, 2};
 constexpr std::array<double, 7> kFootLevels = {0.78, 0.58, 0.42, 0.29, 0.18, 0.09, 0.035};  // × malleolus height
 constexpr int kFootBreadthRing = 6;  // index into foot rings (+ the sole ring after them)
+// Toes, big toe (medial) to little toe: tubes grown like the thumb from holes in the forefoot's
+// front. Each hole spans foot rings kToeRing .. kToeRing + 2 (one interior ring, whose vertex at
+// the toe's column is left out) and the columns beside its own; neighbouring holes share those.
+constexpr int kToeCount = 5;
+constexpr int kToeRing = 3;  // index into foot rings: the holes' upper edge
+constexpr std::array<int, kToeCount> kToeColumns = {2, 4, 6, 8, 10};
+// The forefoot's front, columns kToeSpanFirst (medial) on through kToeSpanColumns columns, is
+// re-spaced along the footprint's outline (foot_angles()) so each toe's hole gets a toe's share of
+// it: left alone, the columns crowd the front's middle and leave the big toe under 1 cm.
+constexpr int kToeSpanFirst = 38, kToeSpanColumns = 16;
+// Where those columns sit along the outline: 0 → 1 from the span's medial end to the front
+// (column kLegFront, which stays at the front so the sole's zip runs toe to heel on both sides),
+// 1 → 2 from there to the lateral end, as fractions of each part's length. The holes' edges (odd
+// columns 1–11) split the front as a big toe and four smaller ones share it; the second toe meets
+// the third at the front.
+constexpr std::array<double, kToeSpanColumns> kToeSpacing = {0, 0.07, 0.14, 0.21, 0.44, 0.68, 0.84, 1,
+                                                               1.12, 1.25, 1.37, 1.5, 1.62, 1.74, 1.87, 2};
+// The forefoot's front wall, where the toes leave it, at this fraction of the foot length from the
+// heel (the webs between the toes lie about there).
+constexpr double kToeWall = 0.85;
+// Rings along a toe at these fractions of its length from the hole.
+constexpr std::array<double, 9> kToeAt = {0.12, 0.25, 0.38, 0.5, 0.62, 0.73, 0.83, 0.91, 0.97};
 
 // Arm stations (x = const rings) after the hole ring r0.
 // kKnuckle: the knuckles (MCP joints, hand breadth); kWeb: the webs between the fingers, where
@@ -297,6 +320,8 @@ struct LegRing {
   // Feet only: the back half narrows toward the heel by this share (x × (1 − heel·c²)), and the
   // medial side further where the arch is (behind the ball: the arch's share at c² = ½).
   double heel = 0, arch = 0;
+  // Feet only: how far (0–1) the front columns are re-spaced for the toes (foot_angles()).
+  double toe_spacing = 0;
 };
 Eigen::Vector2d leg_xz(const LegRing& r, double phi) {  // left leg: lateral = +X
   const double s = std::sin(phi), c = std::cos(phi);
@@ -309,6 +334,36 @@ Eigen::Vector2d leg_xz(const LegRing& r, double phi) {  // left leg: lateral = +
   if (r.calf != 0) z -= r.calf * std::exp(-std::pow((std::abs(std::remainder(phi, 2 * kPi)) - kPi) / 0.9, 2));
   return {x, z};
 }
+// The angles of a leg ring's columns: leg_angle(), except on a foot ring whose front is re-spaced
+// for the toes (kToeSpacing): there the columns between the span's ends move along the outline to
+// their share of its length, by the ring's toe_spacing.
+std::array<double, kLegN> foot_angles(const LegRing& r) {
+  std::array<double, kLegN> phi{};
+  for (int k = 0; k < kLegN; ++k) phi[static_cast<size_t>(k)] = std::remainder(leg_angle(k), 2 * kPi);
+  if (r.toe_spacing <= 0) return phi;
+  auto column = [](int m) { return static_cast<size_t>((kToeSpanFirst + m) % kLegN); };
+  const std::array<double, 3> ends = {phi[column(0)], 0.0, phi[column(kToeSpanColumns - 1)]};
+  for (int part = 0; part < 2; ++part) {
+    const double a = ends[static_cast<size_t>(part)], b = ends[static_cast<size_t>(part + 1)];
+    constexpr int kSamples = 256;
+    std::vector<double> length(kSamples + 1, 0.0);
+    for (int i = 1; i <= kSamples; ++i)
+      length[static_cast<size_t>(i)] = length[static_cast<size_t>(i - 1)] +
+                                       (leg_xz(r, a + (b - a) * i / kSamples) - leg_xz(r, a + (b - a) * (i - 1) / kSamples)).norm();
+    size_t i = 1;
+    for (int m = 1; m + 1 < kToeSpanColumns; ++m) {
+      const double share = kToeSpacing[static_cast<size_t>(m)] - part;
+      if (share <= 0 || share >= 1) continue;
+      const double want = share * length.back();
+      while (i < kSamples && length[i] < want) ++i;
+      const double f = (want - length[i - 1]) / std::max(1e-15, length[i] - length[i - 1]);
+      const double spaced = a + (b - a) * (static_cast<double>(i - 1) + f) / kSamples;
+      phi[column(m)] = std::lerp(phi[column(m)], spaced, r.toe_spacing);
+    }
+  }
+  return phi;
+}
+
 // Uniform scale about the centre so the (convex) ring's hull perimeter is c.
 void fit_leg_circumference(LegRing& r, double c) {
   std::vector<Eigen::Vector2d> pts(kLegN);
@@ -449,7 +504,8 @@ enum class Part { Torso, Bridge, Leg, Arm, Thumb, Finger, Pole };
 // UV islands (uv_layout): the faces of each, in the order build() emits them.
 enum Island { kIslandTorso, kIslandLeg, kIslandSole = kIslandLeg + 2, kIslandArm = kIslandSole + 2,
               kIslandThumb = kIslandArm + 2, kIslandFinger = kIslandThumb + 2,
-              kIslandWeb = kIslandFinger + 2 * kFingerCount, kIslandCount = kIslandWeb + 2 };
+              kIslandWeb = kIslandFinger + 2 * kFingerCount, kIslandToe = kIslandWeb + 2,
+              kIslandCount = kIslandToe + 2 * kToeCount };
 
 struct Builder {
   // Geometry output.
@@ -470,6 +526,8 @@ struct Builder {
   std::array<std::array<std::vector<std::vector<int>>, kFingerCount>, 2> finger;  // [side][finger][ring][k]
   std::array<int, 2> thumb_pole{};
   std::array<std::array<int, kFingerCount>, 2> finger_pole{};  // fingertips; the middle one's is the dactylion
+  std::array<std::array<std::vector<std::vector<int>>, kToeCount>, 2> toe;  // [side][toe][ring][k]
+  std::array<std::array<int, kToeCount>, 2> toe_pole{};  // toe tips; the big toe's is the foot length's end
   std::vector<std::pair<size_t, int>> island_starts;  // (first face, Island), in face order
 
   void island(int id) {
@@ -488,10 +546,12 @@ struct Builder {
     else faces.push_back({a, b, c});
   }
   // Quad strip between two rings of equal size; standard orientation: ring order × tube direction
-  // points outward (flip reverses).
-  void strip(const std::vector<int>& A, const std::vector<int>& B, bool flip) {
+  // points outward (flip reverses). Quads i where skip(i) holds are left open (holes).
+  void strip(const std::vector<int>& A, const std::vector<int>& B, bool flip,
+             const std::function<bool(size_t)>& skip = nullptr) {
     const size_t n = A.size();
     for (size_t i = 0; i < n; ++i) {
+      if (skip && skip(i)) continue;
       const size_t i1 = (i + 1) % n;
       tri(A[i], A[i1], B[i1], flip);
       tri(A[i], B[i1], B[i], flip);
@@ -509,6 +569,7 @@ Vec3 mirror(const Vec3& p) { return {-p.x(), p.y(), p.z()}; }
 // `half_width` across the palm, `half_thick` through it — turning from the base loop's own shape
 // near the base, and closed by a pole at the tip.
 struct DigitPlan {
+  Part part = Part::Finger;  // what its vertices are to the rig (toes: Leg, bent by the foot joint)
   Vec3 dir{1, 0, 0};         // the axis, unless `tip` is given
   Vec3 up{0, 1, 0};          // the back of the digit (the nail's side)
   std::optional<Vec3> tip;   // where the pole must be (the middle fingertip: the dactylion); sets dir
@@ -537,24 +598,29 @@ struct BodyPlan {  // everything the builder needs, derived from the dimensions
   std::vector<ArmRing> arm;      // per ring index ≥ 1
   DigitPlan thumb;
   std::array<DigitPlan, kFingerCount> finger;
+  std::array<DigitPlan, kToeCount> toe;  // left foot
   double crotch_y = 0, crotch_z = 0;  // the crotch point, under the thighs' centres
   double dactylion_x = 0, arm_y = 0, arm_z = 0;
   double head_top = 0;
-  double heel_z = 0, toe_z = 0;
+  double heel_z = 0;  // the heel's back; the big toe's tip is a foot length from it (plan_toes())
   double hand_length = 0;
 };
 
+
+// A digit's section at m (a fraction of its length) relative to its full section: a quarter
+// ellipse over the last tip_fraction of the length, so the tip is round.
+double rounded(double m, double tip_fraction) {
+  const double m0 = 1 - tip_fraction;
+  return m <= m0 ? 1.0 : std::sqrt(std::max(0.0, 1 - std::pow((m - m0) / tip_fraction, 2)));
+}
 
 // The thumb and fingers of the left hand, from the knuckle and web rings (ANSUR has only hand
 // length and breadth: the rest are typical proportions). The middle fingertip is the dactylion,
 // so hand length and span stay exact; the others' lengths are fractions of the middle finger's,
 // each finger takes a share of the hand's breadth, and the outer ones fan out a little.
 void plan_digits(const Dims& d, const ArmRing& knuckle, const ArmRing& web, BodyPlan& P) {
-  auto rounded = [](double m, double tip_fraction) {  // the fingertip: a quarter ellipse
-    const double m0 = 1 - tip_fraction;
-    return m <= m0 ? 1.0 : std::sqrt(std::max(0.0, 1 - std::pow((m - m0) / tip_fraction, 2)));
-  };
   DigitPlan& t = P.thumb;
+  t.part = Part::Thumb;
   t.dir = Vec3(0.8, -0.25, 0.52).normalized();  // out, forward and a little under the palm (opposed)
   t.length = 0.36 * d.handl;
   t.blend = 0.25;
@@ -586,6 +652,61 @@ void plan_digits(const Dims& d, const ArmRing& knuckle, const ArmRing& web, Body
       g.at.push_back(m);
       g.half_width.push_back(r);
       g.half_thick.push_back(0.85 * r);
+    }
+  }
+}
+
+// The toes of the left foot, grown by build() from their holes in the foot's front (ANSUR has only
+// foot length and breadth: the rest are typical proportions). The big toe's tip is the foot
+// length's end, level with the heel landmark's ring as far as the toe's own height allows: its
+// distance from the heel is exactly the foot length.
+void plan_toes(const Dims& d, BodyPlan& P) {
+  const int kf0 = leg_key_ring(kMalleolus) + 1;
+  auto ring = [&](int i) -> const LegRing& { return P.leg[static_cast<size_t>(kf0 + i)]; };
+  const LegRing& breadth_ring = ring(kFootBreadthRing);
+  const Vec3 heel(breadth_ring.xc, breadth_ring.y, P.heel_z);
+  constexpr std::array<double, kToeCount> kLength = {0, 0.12, 0.105, 0.09, 0.075};  // × foot length; the big toe's by its tip
+  constexpr std::array<double, kToeCount> kYawDeg = {0, 1, 3, 5, 7};                // lateral
+  constexpr std::array<double, kToeCount> kWidth = {0.85, 0.8, 0.8, 0.8, 0.8};      // × the hole's half-width
+  constexpr std::array<double, kToeCount> kThick = {0.09, 0.065, 0.06, 0.055, 0.05};  // half-thickness, × foot breadth
+  const double clearance = 0.0015 * d.footl / 0.26;  // the toes' pads above the floor
+  for (int t = 0; t < kToeCount; ++t) {
+    const int c = kToeColumns[static_cast<size_t>(t)];
+    Vec3 centre = Vec3::Zero();
+    std::array<Vec3, 2> edge;  // on the interior ring, beside the hole
+    for (int i = kToeRing; i <= kToeRing + 2; ++i) {
+      const auto phi = foot_angles(ring(i));
+      for (int k : {c - 1, c, c + 1}) {
+        if (i == kToeRing + 1 && k == c) continue;
+        const auto q = leg_xz(ring(i), phi[static_cast<size_t>((k + kLegN) % kLegN)]);
+        const Vec3 p(q.x(), ring(i).y, q.y());
+        centre += p / 8;
+        if (i == kToeRing + 1) edge[k < c ? 0 : 1] = p;
+      }
+    }
+    DigitPlan& g = P.toe[static_cast<size_t>(t)];
+    g.part = Part::Leg;
+    g.blend = 0.2;
+    const double w0 = kWidth[static_cast<size_t>(t)] * 0.5 * (edge[1] - edge[0]).norm();
+    const double h0 = kThick[static_cast<size_t>(t)] * d.footb;
+    const double length = t == 0 ? (1 - kToeWall) * d.footl : kLength[static_cast<size_t>(t)] * d.footl;
+    for (double m : kToeAt) {
+      const double r = rounded(m, std::min(0.5, 0.9 * w0 / length));
+      g.at.push_back(m);
+      g.half_width.push_back(w0 * (1 - 0.08 * m) * r);
+      g.half_thick.push_back(h0 * (1 - 0.1 * m) * r);
+    }
+    // The tip as low as it can be with every ring's underside above the floor (the axis runs
+    // straight from the hole's centre to the tip).
+    double tip_y = clearance;
+    for (size_t k = 0; k < kToeAt.size(); ++k)
+      tip_y = std::max(tip_y, centre.y() + (clearance + g.half_thick[k] - centre.y()) / kToeAt[k]);
+    if (t == 0) {
+      const double dy = tip_y - heel.y(), dx = centre.x() - heel.x();
+      g.tip = Vec3(centre.x(), tip_y, heel.z() + std::sqrt(d.footl * d.footl - dx * dx - dy * dy));
+    } else {
+      const double yaw = kYawDeg[static_cast<size_t>(t)] * kPi / 180;
+      g.tip = Vec3(centre.x() + length * std::sin(yaw), tip_y, centre.z() + length * std::cos(yaw));
     }
   }
 }
@@ -1042,20 +1163,19 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double fl = d.footl, fb = d.footb;
     const double z_ank = L[kMalleolus].zc;
     P.heel_z = z_ank - 0.24 * fl;
-    P.toe_z = P.heel_z + fl;
     const LegRing& m = L[kMalleolus];
     const int kf0 = leg_key_ring(kMalleolus) + 1;
-    // The top of the foot in profile: the toes a low slab (about a fifth of the malleolus height at
-    // the tip), the dorsum rising from the ball to the front of the ankle.
-    const MonotoneCurve instep({0.0, 0.12, 0.18, 0.29, 0.42, 0.58, 0.78, 1.0}, {1.0, 1.0, 0.98, 0.86, 0.66, 0.4, 0.15, 0.0});
+    // The top of the foot in profile: the dorsum rising from the toes' wall to the front of the
+    // ankle. The toes (plan_toes()) leave that wall, which stands from the holes' top ring down;
+    // below the holes the ball's pad rounds back under the toes, which overhang it.
+    const double z_wall = P.heel_z + kToeWall * fl;
+    const MonotoneCurve instep({0.0, 0.12, 0.18, 0.29, 0.42, 0.58, 0.78, 1.0}, {1.0, 1.0, 1.0, 1.0, 0.8, 0.5, 0.18, 0.0});
     for (size_t i = 0; i <= kFootLevels.size(); ++i) {
       const double f = i < kFootLevels.size() ? kFootLevels[i] : 0.0;
       const double yy = f * y_ml;
       const double u = 1 - f;  // 0 at the malleolus, 1 at the sole
-      // Front reach follows the instep down to the toes; the heel rounds off at the bottom.
-      // Instep profile: full length up to the toes' height, the ball's top near 0.6 of the
-      // malleolus height, the ankle front at the top.
-      const double front = std::lerp(z_ank + m.bf, P.toe_z, instep(f));
+      // Front reach follows the instep down to the toes' wall; the heel rounds off at the bottom.
+      const double front = std::lerp(z_ank + m.bf, z_wall, instep(f)) - (f <= kFootLevels[kFootBreadthRing] ? 0.003 * fl / 0.26 : 0.0);
       const double back = std::lerp(z_ank - m.bb, P.heel_z, std::pow(u, 0.6));
       const double ball = 0.7;
       const double cz = back + std::lerp(0.5, ball, std::pow(u, 1.5)) * (front - back);
@@ -1070,12 +1190,13 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       r.p = std::lerp(2.2, 2.6, u);
       // Towards the sole the front squares off (the toes' broad front) and slants back laterally.
       r.p_front = std::lerp(2.2, 3.4, u * u);
-      r.toe_slant = 0.12 * fl * u * u;
+      r.toe_slant = 0.04 * fl * u * u;
       // The footprint: its back half narrows toward the heel (by up to 30 % at the sole), the arch
       // drawn in on the inside; a symmetric outline made the heel as broad as the ball, a slipper
       // from behind. The breadth and length, at c = 0 and c = ±1, are untouched.
       r.heel = 0.3 * std::pow(u, 1.5);
       r.arch = 0.15 * u * u;
+      r.toe_spacing = 1 - smoothstep(kFootLevels[kToeRing], 0.65, f);
       if (i == kFootLevels.size()) {  // the sole: a little inside the ring above, on the floor
         const LegRing& up = P.leg[static_cast<size_t>(kf0 + static_cast<int>(i) - 1)];
         r = up;
@@ -1085,11 +1206,23 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       if (static_cast<int>(i) == kFootBreadthRing) {  // exact breadth and length on this ring
         r.al = r.am = fb / 2;
         const double c0 = P.heel_z + ball * fl;
-        r.zc = c0; r.bf = P.toe_z - c0; r.bb = c0 - P.heel_z;
+        r.zc = c0; r.bf = front - c0; r.bb = c0 - P.heel_z;
       }
       P.leg[static_cast<size_t>(kf0 + static_cast<int>(i))] = r;
     }
+    // The toes' wall: the rings around their holes take the breadth ring's front outline (3 mm
+    // ahead of it), so the wall stands upright and no lower ring juts out under the toes; their
+    // sides draw in a little toward the top, more on the lateral side, which is low on a foot.
+    const LegRing& wall = P.leg[static_cast<size_t>(kf0 + kFootBreadthRing)];
+    for (int i = kToeRing; i < kFootBreadthRing; ++i) {
+      LegRing& r = P.leg[static_cast<size_t>(kf0 + i)];
+      const double back = r.zc - r.bb, draw_in = 0.004 * fb / 0.1 * std::pow((kFootBreadthRing - i) / 3.0, 2);
+      r.zc = wall.zc; r.bf = wall.bf + 0.003 * fl / 0.26; r.bb = r.zc - back;
+      r.xc = wall.xc; r.al = wall.al - draw_in; r.am = wall.am - 0.4 * draw_in; r.p_front = wall.p_front; r.toe_slant = wall.toe_slant;
+    }
   }
+
+  plan_toes(d, P);
 
   // -- Arms (left). Span, biacromial breadth and hand length exact; segments share one scale.
   {
@@ -1168,14 +1301,20 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
 bool in_left_hole(int k, int j, int kax) { return k > kax && k < kax + kHoleRows && j > kHoleJ0 && j < kHoleJ1; }
 bool in_hole(int k, int j, int kax) { return in_left_hole(k, j, kax) || in_left_hole(k, (kTorsoN - j) % kTorsoN, kax); }
 bool in_thumb_hole(int a, int q, int h0) { return a > h0 && a < h0 + kThumbRows && q > kThumbQ0 && q < kThumbQ1; }
+int toe_hole_ring() { return leg_key_ring(kMalleolus) + 1 + kToeRing; }  // the toe holes' upper edge
+bool is_toe_column(int k) { return std::find(kToeColumns.begin(), kToeColumns.end(), k) != kToeColumns.end(); }
+bool in_toe_hole(int r, int k) { return r == toe_hole_ring() + 1 && is_toe_column(k); }
+// The quad between columns k and k + 1 of leg rings r and r + 1 is inside a toe's hole.
+bool toe_hole_quad(int r, int k) {
+  return (r == toe_hole_ring() || r == toe_hole_ring() + 1) && (is_toe_column(k) || is_toe_column((k + 1) % kLegN));
+}
 
 // Grows a digit (DigitPlan) from `base`, a loop of vertices in ring order; appends its rings
 // (ring 0 = base) to `rings` and sets `pole`. Side sd: 0 left, 1 right (the left's mirror image).
 void grow_digit(Builder& B, int sd, const std::vector<int>& base, const DigitPlan& plan,
                 std::vector<std::vector<int>>& rings, int& pole) {
   auto left = [&](int id) { return sd == 0 ? B.v[static_cast<size_t>(id)] : mirror(B.v[static_cast<size_t>(id)]); };
-  const Part part = plan.tip || plan.root > 0 ? Part::Finger : Part::Thumb;
-  auto add = [&](const Vec3& p) { return B.add(sd == 0 ? p : mirror(p), part, sd == 0 ? 1 : -1); };
+  auto add = [&](const Vec3& p) { return B.add(sd == 0 ? p : mirror(p), plan.part, sd == 0 ? 1 : -1); };
   const int n = static_cast<int>(base.size());
   Vec3 c = Vec3::Zero();
   for (int id : base) c += left(id);
@@ -1184,7 +1323,7 @@ void grow_digit(Builder& B, int sd, const std::vector<int>& base, const DigitPla
   double length = plan.length, root = 0;  // root: from the joint plane to the base, along the axis
   if (plan.tip) {
     dir = (*plan.tip - c).normalized();
-    root = plan.root / dir.x();
+    root = plan.root > 0 ? plan.root / dir.x() : 0.0;
     length = (*plan.tip - c).norm() + root;
   } else if (plan.root > 0) {
     root = plan.root / dir.x();
@@ -1338,8 +1477,10 @@ void build(const BodyPlan& P, Builder& B) {
     for (int k = 33; k < kLegN; ++k) L[0][static_cast<size_t>(k)] = B.bridge[static_cast<size_t>(k - 33)];
     for (int r = 1; r < nl; ++r) {
       const LegRing& g = P.leg[static_cast<size_t>(r)];
+      const auto phi = foot_angles(g);
       for (int k = 0; k < kLegN; ++k) {
-        const auto q = leg_xz(g, leg_angle(k));
+        if (in_toe_hole(r, k)) continue;
+        const auto q = leg_xz(g, phi[static_cast<size_t>(k)]);
         double y = g.y;
         if (r == 1) {  // under a dropped seat: follow the torso column above (k ≤ 32) or the bridge
           double s = 0, c = -1;
@@ -1351,9 +1492,21 @@ void build(const BodyPlan& P, Builder& B) {
         L[static_cast<size_t>(r)][static_cast<size_t>(k)] = B.add(sd == 0 ? p : mirror(p), Part::Leg, sd == 0 ? 1 : -1);
       }
     }
+    // Toes: grown from the loops around their holes in the forefoot's front.
+    const int th = toe_hole_ring();
+    for (int t = 0; t < kToeCount; ++t) {
+      const int c = kToeColumns[static_cast<size_t>(t)];
+      auto at = [&](int r, int k) { return L[static_cast<size_t>(r)][static_cast<size_t>((k + kLegN) % kLegN)]; };
+      const std::vector<int> loop = {at(th, c - 1),     at(th, c),         at(th, c + 1),     at(th + 1, c + 1),
+                                     at(th + 2, c + 1), at(th + 2, c),     at(th + 2, c - 1), at(th + 1, c - 1)};
+      grow_digit(B, sd, loop, P.toe[static_cast<size_t>(t)], B.toe[static_cast<size_t>(sd)][static_cast<size_t>(t)],
+                 B.toe_pole[static_cast<size_t>(sd)][static_cast<size_t>(t)]);
+    }
     if (B.want_topology) {
       B.island(kIslandLeg + sd);
-      for (int r = 0; r + 1 < nl; ++r) B.strip(L[static_cast<size_t>(r)], L[static_cast<size_t>(r + 1)], sd == 0);
+      for (int r = 0; r + 1 < nl; ++r)
+        B.strip(L[static_cast<size_t>(r)], L[static_cast<size_t>(r + 1)], sd == 0,
+                [r](size_t k) { return toe_hole_quad(r, static_cast<int>(k)); });
       B.island(kIslandSole + sd);
       // Sole: zip the lateral and medial halves of the last ring from toe to heel.
       const auto& R = L.back();
@@ -1379,6 +1532,10 @@ void build(const BodyPlan& P, Builder& B) {
         else { emit(prev_l, prev_m, med[j]); prev_m = med[j]; ++j; }
       }
       emit(prev_l, prev_m, heel);
+      for (int t = 0; t < kToeCount; ++t) {
+        B.island(kIslandToe + kToeCount * sd + t);
+        emit_digit(B, B.toe[static_cast<size_t>(sd)][static_cast<size_t>(t)], B.toe_pole[static_cast<size_t>(sd)][static_cast<size_t>(t)]);
+      }
     }
   }
   // Arms, hands, thumbs.
@@ -1482,7 +1639,7 @@ void add_landmarks(Builder& B) {
     L["ankle" + s] = leg(leg_key_ring(kAnkle), kLegLateral);
     L["lateral_malleolus" + s] = leg(leg_key_ring(kMalleolus), kLegLateral);
     L["heel" + s] = leg(fb, kLegBack);
-    L["toe" + s] = leg(fb, kLegFront);
+    L["toe" + s] = B.toe_pole[static_cast<size_t>(sd)][0];
     L["foot_lateral" + s] = leg(fb, kLegLateral);
     L["foot_medial" + s] = leg(fb, kLegMedial);
     const auto& A = B.arm[static_cast<size_t>(sd)];
@@ -2191,6 +2348,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   for (int r = 1; r < L.rings(); ++r)
     for (int k = 0; k < kLegN; ++k) {
       const int id = L.id(r, k);
+      if (id < 0) continue;  // a toe's hole
       N[static_cast<size_t>(id)] = ring_normal(L, v0, r, k);
       const Vec3& p = v0[static_cast<size_t>(id)];
       const double phi = leg_angle(k), c = std::cos(phi), s = std::sin(phi);
@@ -2236,6 +2394,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   for (int r = 1; r < L.rings(); ++r)
     for (int k = 0; k < kLegN; ++k) {
       const int id = L.id(r, k);
+      if (id < 0) continue;  // a toe's hole
       v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
       v[static_cast<size_t>(B.leg[1][static_cast<size_t>(r)][static_cast<size_t>(k)])] = mirror(v[static_cast<size_t>(id)]);
     }
@@ -2452,6 +2611,10 @@ UvLayout uv_layout(const Vertices& rest) {
       S = {&B.finger[static_cast<size_t>(sd)][static_cast<size_t>(f)], {0},
            B.finger_pole[static_cast<size_t>(sd)][static_cast<size_t>(f)], true};
       pair = 4;  // digits turn together
+    } else if (id >= kIslandToe && id < kIslandToe + 2 * kToeCount) {
+      const int sd = (id - kIslandToe) / kToeCount, t = (id - kIslandToe) % kToeCount;
+      S = {&B.toe[static_cast<size_t>(sd)][static_cast<size_t>(t)], {0}, B.toe_pole[static_cast<size_t>(sd)][static_cast<size_t>(t)], true};
+      pair = 4;
     } else {
       pair = 2;  // soles and webs
     }

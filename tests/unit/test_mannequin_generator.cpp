@@ -345,6 +345,55 @@ TEST(MannequinGenerator, FingersAreSeparateAndInAnatomicalOrder) {
   }
 }
 
+// Five separate toes on each foot, the big toe on the inside and the broadest: some vertical
+// section across the front of the foot (between 70 % of the foot's length from the heel and the
+// big toe's tip) cuts it into five separate loops, the most medial the widest. Bodies from the
+// smallest to the largest feet.
+TEST(MannequinGenerator, FeetHaveFiveSeparateToes) {
+  for (Sex sex : {Sex::Female, Sex::Male})
+    for (double scale : {0.85, 1.0, 1.15}) {
+      mq::Dimensions d = mq::typical_dimensions(sex);
+      d.at("footlength") *= scale;
+      d.at("footbreadthhorizontal") *= scale;
+      const Vertices v = mq::generate(d, sex);
+      const auto& lm = mq::topology().landmarks;
+      for (const char* side : {"left", "right"}) {
+        const std::string s = side;
+        const Eigen::Vector3d heel = v.row(lm.at("heel_" + s)).transpose(), toe = v.row(lm.at("toe_" + s)).transpose();
+        const double length = (toe - heel).norm(), out = s == "left" ? 1 : -1;
+        std::vector<std::pair<double, double>> best;  // (distance from the body's midline, width) per loop
+        for (double f = 0.7; f < 1.0; f += 0.005) {
+          std::vector<std::pair<double, double>> loops;
+          for (const auto& loop : plane_section(v, mq::topology().faces, Eigen::Vector3d(0, 0, heel.z() + f * length),
+                                                Eigen::Vector3d::UnitZ())) {
+            double lo = 1e9, hi = -1e9, top = -1e9;
+            for (const auto& p : loop) lo = std::min(lo, out * p.x()), hi = std::max(hi, out * p.x()), top = std::max(top, p.y());
+            if (top < 0.08 && lo > 0) loops.push_back({0.5 * (lo + hi), hi - lo});  // this foot's
+          }
+          if (loops.size() > best.size()) best = loops;
+        }
+        ASSERT_EQ(best.size(), 5u) << to_string(sex) << " × " << scale << ", " << s << " foot";
+        std::sort(best.begin(), best.end());
+        for (size_t t = 1; t < 5; ++t) EXPECT_GT(best[0].second, best[t].second) << "the big toe is the broadest";
+      }
+    }
+}
+
+// The toes bend at the ball of the foot (SMPL's foot joint): turning it up lifts the big toe's
+// tip and leaves the heel and the other foot where they were.
+TEST(MannequinGenerator, ToesBendAtTheBallOfTheFoot) {
+  const Vertices v = mq::generate(mq::typical_dimensions(Sex::Female), Sex::Female);
+  const BodyModel model = model_for(v, Sex::Female);
+  Pose pose = zero_pose(model);
+  pose(joint_named(model, "left_foot"), 0) = -0.5;  // about +X: the toes (+Z) go up
+  const Vertices posed = pose_vertices(model, v, pose);
+  const auto& lm = mq::topology().landmarks;
+  EXPECT_GT(posed(lm.at("toe_left"), 1) - v(lm.at("toe_left"), 1), 0.01);
+  EXPECT_LT((posed.row(lm.at("heel_left")) - v.row(lm.at("heel_left"))).norm(), 1e-9);
+  EXPECT_LT((posed.row(lm.at("toe_right")) - v.row(lm.at("toe_right"))).norm(), 1e-9);
+  EXPECT_TRUE(self_intersections(posed, mq::topology().faces, 1).empty());
+}
+
 TEST(MannequinGenerator, EachFingerJointBendsOnlyItsFinger) {
   const Vertices v = mq::generate(mq::typical_dimensions(Sex::Male), Sex::Male);
   const BodyModel model = model_for(v, Sex::Male);

@@ -243,10 +243,11 @@ void expect_valid_body_layout(const Vertices& v, const Faces& faces, const UvCoo
   EXPECT_GT(area.minCoeff(), 0.0);
   EXPECT_TRUE(uv_overlaps(uv, uv_faces).empty());
   // Torso + head front and back, each leg's front and back, two soles, two arms with their
-  // palms, two thumbs, eight fingers, and the webs between the fingers (three on each hand).
+  // palms, two thumbs, eight fingers, the webs between the fingers (three on each hand) and ten
+  // toes.
   int islands = 0;
   uv_islands(uv_faces, uv.rows(), &islands);
-  EXPECT_EQ(islands, 2 + 4 + 2 + 2 + 2 + 8 + 6);
+  EXPECT_EQ(islands, 2 + 4 + 2 + 2 + 2 + 8 + 6 + 10);
   // The atlas is used: the islands cover 45 % of the unit square or more (bounding boxes of
   // tapered islands, packed, leave the rest).
   EXPECT_GT(area.sum(), 0.45);
@@ -308,6 +309,6 @@ TEST(MannequinUvLayout, ValidOnGeneratedBodiesAndDeterministic) {
         ++paired;
         break;
       }
-  EXPECT_EQ(paired, 24);  // every island but the torso's front and back has its mirror image
+  EXPECT_EQ(paired, 34);  // every island but the torso's front and back has its mirror image
   EXPECT_THROW(mannequin::uv_layout(Vertices(v.topRows(10))), Error);
 }
