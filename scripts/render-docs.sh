@@ -26,6 +26,9 @@ $c render --sex female --beta 0 --focus left_middle1 --focus-radius 12 --views f
   -o docs/images/mannequin-hand.png --image-width 480 --image-height 400
 $c render --sex male --beta 0 --pose fist --focus left_middle1 --focus-radius 11 --views side,three-quarter \
   -o docs/images/mannequin-fist.png --image-width 480 --image-height 400
+# Feet: the mean male's, close up (front, the outer side, three-quarter).
+$c render --sex male --beta 0 --focus left_foot --focus-radius 8 --views front,side,three-quarter \
+  -o docs/images/mannequin-foot.png --image-width 480 --image-height 320
 # A heavy man (BMI 35: 178 cm, 111 kg).
 $c render --sex male --height 178 --weight 111 -o docs/images/mannequin-heavy-man.png "${size[@]}"
 # Beside the MakeHuman body at the same measurements, when MakeHuman's assets are beside the
