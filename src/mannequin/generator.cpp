@@ -79,6 +79,10 @@ constexpr int kThumbQ0 = 27, kThumbQ1 = 31; // thumb hole columns on the hand (q
 constexpr int kThumbRows = 3;
 // Fairing of the shoulder (fair()): torso columns beside the armpit hole, arm rings after it.
 constexpr int kFairColumns = 6, kFairArmRings = 3, kFairIterations = 30;
+// Smoothing the shoulder's skin weights (smooth_shoulder_weights()): full within the inner radius
+// of the shoulder joint, fading to none at the outer (metres on a 1.70 m body).
+constexpr double kShoulderSmoothInner = 0.04, kShoulderSmoothOuter = 0.12;
+constexpr int kShoulderSmoothRounds = 15;
 // Fairing of the groin: the torso's bottom rings and the legs' first rings (above the thigh ring).
 constexpr int kFairGroinTorsoRings = 2, kFairGroinLegRings = 2;
 constexpr int kThumbN = 2 * (kThumbQ1 - kThumbQ0) + 2 * kThumbRows;
@@ -1688,6 +1692,46 @@ void add_mean(Weights& out, const std::vector<int>& ids, double total) {
   for (int i : valid) out.push_back({i, total / static_cast<double>(valid.size())});
 }
 
+// The shoulder's weights, diffused over the surface around it. The chains give the arm to the
+// shoulder joint by its distance out along the arm and the torso to the collar by height and
+// distance from the midline, so around the armpit the weights change within a couple of
+// centimetres: the arm lowered into an A-pose folds the skin there into a crease, and raised 60°
+// above the horizontal the typical man's armpit folds flat and through itself. Averaging each
+// vertex's weights with its neighbours' (kShoulderSmoothRounds rounds, fading out towards the
+// zone's edge), as a rigger's weight smoothing does, lets the arm's root follow the collar and
+// the torso a little. Only vertices on the arm's side of the shoulder joint change, so the
+// torso's own vertices keep the joint that moves them most (the crease measure's regions); the
+// rows still sum to 1.
+void smooth_shoulder_weights(const Builder& B, const std::array<Vec3, JointCount>& joint, double sc,
+                             std::vector<Weights>& vw) {
+  std::vector<std::set<int>> nb(B.v.size());
+  for (const auto& f : B.faces)
+    for (int a = 0; a < 3; ++a) nb[static_cast<size_t>(f[static_cast<size_t>(a)])].insert(f[static_cast<size_t>((a + 1) % 3)]),
+                                nb[static_cast<size_t>(f[static_cast<size_t>((a + 1) % 3)])].insert(f[static_cast<size_t>(a)]);
+  std::vector<double> zone(B.v.size(), 0.0);
+  const Vec3& sh = joint[LShoulder];
+  for (size_t i = 0; i < B.v.size(); ++i) {
+    if (B.part[i] != Part::Torso && B.part[i] != Part::Arm) continue;
+    const Vec3 p(std::abs(B.v[i].x()), B.v[i].y(), B.v[i].z());
+    const double d = (p - sh).norm();
+    zone[i] = (1 - smoothstep(kShoulderSmoothInner * sc, kShoulderSmoothOuter * sc, d)) *
+              smoothstep(sh.x() - 0.04 * sc, sh.x() - 0.01 * sc, p.x());
+  }
+  for (int round = 0; round < kShoulderSmoothRounds; ++round) {
+    std::vector<Weights> next = vw;
+    for (size_t i = 0; i < vw.size(); ++i) {
+      if (zone[i] <= 0) continue;
+      std::map<int, double> mean;
+      for (int n : nb[i]) for (auto [j, a] : vw[static_cast<size_t>(n)]) mean[j] += a / static_cast<double>(nb[i].size());
+      std::map<int, double> mixed;
+      for (auto [j, a] : vw[i]) mixed[j] += (1 - 0.5 * zone[i]) * a;
+      for (auto [j, a] : mean) mixed[j] += 0.5 * zone[i] * a;
+      next[i].assign(mixed.begin(), mixed.end());
+    }
+    vw = std::move(next);
+  }
+}
+
 Topology make_topology() {
   const Dimensions dims = typical_dimensions(Sex::Neutral);
   Builder B;
@@ -1882,6 +1926,7 @@ Topology make_topology() {
       if (col_w > 0) w.push_back({ax > std::abs(joint[static_cast<size_t>(shoulder)].x()) - 0.02 ? shoulder : collar, col_w});
     }
   }
+  smooth_shoulder_weights(B, joint, sc, vw);
   trip.clear();
   for (size_t i = 0; i < vw.size(); ++i) {
     std::map<int, double> merged;

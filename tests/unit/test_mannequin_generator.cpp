@@ -486,6 +486,24 @@ TEST(MannequinGenerator, PosesKeepTheBodysVolume) {
   }
 }
 
+// The shoulders bend without folding the skin through itself: arms lowered to an A-pose and
+// raised 60° above the horizontal leave no face crossing another, and no edge of the arms (the
+// shoulder and armpit included) folds by more than 120°. With the chains' weights alone (before
+// smooth_shoulder_weights) the typical man's raised armpit folds by 180° and crosses itself.
+TEST(MannequinGenerator, ShouldersBendWithoutFolding) {
+  for (Sex sex : {Sex::Female, Sex::Male}) {
+    const Vertices v = mq::generate(mq::typical_dimensions(sex), sex);
+    const BodyModel model = model_for(v, sex);
+    const auto regions = vertex_regions(mq::topology().skin_weights, rig_joint_names());
+    for (double degrees : {45.0, -60.0}) {
+      const Vertices posed = pose_vertices(model, v, a_pose(model, degrees));
+      EXPECT_TRUE(self_intersections(posed, mq::topology().faces, 1).empty()) << to_string(sex) << " " << degrees << "°";
+      for (const auto& r : crease_report(posed, mq::topology().faces, regions))
+        if (r.region == BodyRegion::Arms) EXPECT_LT(r.max_degrees, 120) << to_string(sex) << " " << degrees << "°";
+    }
+  }
+}
+
 // SMPL and SMPL-H pose data drive the rig by joint name: SMPL's 72 values and SMPL-H's
 // 156 land on the joints they name; a model without fingers drops SMPL-H's finger values.
 TEST(PoseFromValues, SmplAndSmplhValuesLandOnTheirJoints) {
