@@ -1699,9 +1699,9 @@ void add_mean(Weights& out, const std::vector<int>& ids, double total) {
 // above the horizontal the typical man's armpit folds flat and through itself. Averaging each
 // vertex's weights with its neighbours' (kShoulderSmoothRounds rounds, fading out towards the
 // zone's edge), as a rigger's weight smoothing does, lets the arm's root follow the collar and
-// the torso a little. Only vertices on the arm's side of the shoulder joint change, so the
-// torso's own vertices keep the joint that moves them most (the crease measure's regions); the
-// rows still sum to 1.
+// the torso a little. Only vertices out from about the shoulder joint change (fading in over the
+// 3 cm inside it), so the torso's own vertices keep the joint that moves them most (the crease
+// measure's regions); the rows still sum to 1.
 void smooth_shoulder_weights(const Builder& B, const std::array<Vec3, JointCount>& joint, double sc,
                              std::vector<Weights>& vw) {
   std::vector<std::set<int>> nb(B.v.size());
