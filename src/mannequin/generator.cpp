@@ -568,6 +568,17 @@ struct Builder {
 
 Vec3 mirror(const Vec3& p) { return {-p.x(), p.y(), p.z()}; }
 
+// Each vertex's one-ring: the vertices it shares an edge with.
+std::vector<std::set<int>> one_rings(const Builder& B) {
+  std::vector<std::set<int>> ring(B.v.size());
+  for (const auto& t : B.faces)
+    for (int c = 0; c < 3; ++c) {
+      ring[static_cast<size_t>(t[static_cast<size_t>(c)])].insert(t[static_cast<size_t>((c + 1) % 3)]);
+      ring[static_cast<size_t>(t[static_cast<size_t>(c)])].insert(t[static_cast<size_t>((c + 2) % 3)]);
+    }
+  return ring;
+}
+
 // A finger or the thumb (left hand; the right is its mirror image): a tube of rings grown from a
 // loop of the hand's vertices (its base) along `dir`, each ring an ellipse about the axis — half
 // `half_width` across the palm, `half_thick` through it — turning from the base loop's own shape
@@ -674,12 +685,14 @@ void plan_toes(const Dims& d, BodyPlan& P) {
   constexpr std::array<double, kToeCount> kWidth = {0.85, 0.8, 0.8, 0.8, 0.8};      // × the hole's half-width
   constexpr std::array<double, kToeCount> kThick = {0.09, 0.065, 0.06, 0.055, 0.05};  // half-thickness, × foot breadth
   const double clearance = 0.0015 * d.footl / 0.26;  // the toes' pads above the floor
+  std::array<std::array<double, kLegN>, 3> hole_phi;  // the hole rings' column angles
+  for (int i = 0; i < 3; ++i) hole_phi[static_cast<size_t>(i)] = foot_angles(ring(kToeRing + i));
   for (int t = 0; t < kToeCount; ++t) {
     const int c = kToeColumns[static_cast<size_t>(t)];
     Vec3 centre = Vec3::Zero();
     std::array<Vec3, 2> edge;  // on the interior ring, beside the hole
     for (int i = kToeRing; i <= kToeRing + 2; ++i) {
-      const auto phi = foot_angles(ring(i));
+      const auto& phi = hole_phi[static_cast<size_t>(i - kToeRing)];
       for (int k : {c - 1, c, c + 1}) {
         if (i == kToeRing + 1 && k == c) continue;
         const auto q = leg_xz(ring(i), phi[static_cast<size_t>((k + kLegN) % kLegN)]);
@@ -1704,10 +1717,7 @@ void add_mean(Weights& out, const std::vector<int>& ids, double total) {
 // measure's regions); the rows still sum to 1.
 void smooth_shoulder_weights(const Builder& B, const std::array<Vec3, JointCount>& joint, double sc,
                              std::vector<Weights>& vw) {
-  std::vector<std::set<int>> nb(B.v.size());
-  for (const auto& f : B.faces)
-    for (int a = 0; a < 3; ++a) nb[static_cast<size_t>(f[static_cast<size_t>(a)])].insert(f[static_cast<size_t>((a + 1) % 3)]),
-                                nb[static_cast<size_t>(f[static_cast<size_t>((a + 1) % 3)])].insert(f[static_cast<size_t>(a)]);
+  const std::vector<std::set<int>> nb = one_rings(B);
   std::vector<double> zone(B.v.size(), 0.0);
   const Vec3& sh = joint[LShoulder];
   for (size_t i = 0; i < B.v.size(); ++i) {
@@ -2016,12 +2026,7 @@ Fairing make_fairing() {
       take_once(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)]);
   for (int r = 0; r < kFairGroinLegRings; ++r)
     for (int q = 1; q < kLegBridgeFirst - 1; ++q) take_once(B.leg[0][static_cast<size_t>(r)][static_cast<size_t>(q)], B.leg[1][static_cast<size_t>(r)][static_cast<size_t>(q)]);
-  std::vector<std::set<int>> ring(B.v.size());
-  for (const auto& t : B.faces)
-    for (int c = 0; c < 3; ++c) {
-      ring[static_cast<size_t>(t[static_cast<size_t>(c)])].insert(t[static_cast<size_t>((c + 1) % 3)]);
-      ring[static_cast<size_t>(t[static_cast<size_t>(c)])].insert(t[static_cast<size_t>((c + 2) % 3)]);
-    }
+  const std::vector<std::set<int>> ring = one_rings(B);
   for (int id : f.left) f.neighbours.emplace_back(ring[static_cast<size_t>(id)].begin(), ring[static_cast<size_t>(id)].end());
   return f;
 }
