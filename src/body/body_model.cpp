@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "caliper/errors.h"
 
@@ -136,6 +139,41 @@ void validate(const BodyModelData& d) {
     inconsistent("weight_from_volume", "coefficients must be finite with a > 0");
 }
 
+UvSplitMesh split_at_uv_seams(const BodyModelData& d) {
+  const size_t n = static_cast<size_t>(d.template_vertices.rows());
+  UvSplitMesh out;
+  out.source.resize(n);
+  for (size_t v = 0; v < n; ++v) out.source[v] = v;
+  out.uv.assign(n, {0.0, 0.0});
+  out.faces = d.faces;
+  if (d.uv_faces.rows() == 0) return out;
+  const Faces& uv_faces = d.uv_faces;
+  const UvCoordinates& uv = d.uv_coordinates;
+  std::vector<std::int32_t> first_uv(n, -1);  // the UV each model vertex keeps
+  // Each vertex's further UVs, with the output vertex written for each: only the seams' vertices
+  // have any, so a short list per vertex.
+  std::vector<std::vector<std::pair<std::int32_t, std::int32_t>>> copies(n);
+  for (Eigen::Index f = 0; f < out.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t v = d.faces(f, k), t = uv_faces(f, k);
+      auto& kept = first_uv[static_cast<size_t>(v)];
+      if (kept < 0) kept = t;
+      if (kept == t) {
+        out.uv[static_cast<size_t>(v)] = {uv(t, 0), uv(t, 1)};
+        continue;
+      }
+      auto& mine = copies[static_cast<size_t>(v)];
+      auto it = std::find_if(mine.begin(), mine.end(), [t](const auto& copy) { return copy.first == t; });
+      if (it == mine.end()) {
+        it = mine.insert(mine.end(), {t, static_cast<std::int32_t>(out.source.size())});
+        out.source.push_back(static_cast<size_t>(v));
+        out.uv.push_back({uv(t, 0), uv(t, 1)});
+      }
+      out.faces(f, k) = it->second;
+    }
+  return out;
+}
+
 }  // namespace
 
 BodyModel::BodyModel(BodyModelData data) : data_(std::move(data)) {
@@ -143,6 +181,7 @@ BodyModel::BodyModel(BodyModelData data) : data_(std::move(data)) {
   data_.skin_weights.makeCompressed();
   validate(data_);
   shape_directions_f_ = data_.shape_directions.cast<float>();
+  uv_split_ = split_at_uv_seams(data_);
 }
 
 int BodyModel::landmark(const std::string& name) const {

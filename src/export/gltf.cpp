@@ -36,7 +36,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <map>
 #include <sstream>
 #include <string_view>
 #include <utility>
@@ -138,44 +137,6 @@ void check_inputs(const BodyModel& model, const Vertices& rest, const GlbOptions
   }
 }
 
-// The mesh as written: vertex v of the output is model vertex source[v] with UV uv[v].
-struct SplitMesh {
-  std::vector<size_t> source;
-  std::vector<std::array<double, 2>> uv;  // OBJ convention; (0, 0) without a layout
-  Faces faces;                            // F×3 into the output vertices
-};
-
-SplitMesh split_at_uv_seams(const BodyModel& model) {
-  const size_t n = static_cast<size_t>(model.vertex_count());
-  SplitMesh out;
-  out.source.resize(n);
-  for (size_t v = 0; v < n; ++v) out.source[v] = v;
-  out.uv.assign(n, {0.0, 0.0});
-  out.faces = model.faces();
-  if (!model.has_uvs()) return out;
-  const Faces& uv_faces = model.data().uv_faces;
-  const UvCoordinates& uv = model.data().uv_coordinates;
-  std::vector<std::int32_t> first_uv(n, -1);  // the UV each model vertex keeps
-  std::map<std::pair<std::int32_t, std::int32_t>, std::int32_t> copies;  // (vertex, uv) → output vertex
-  for (Eigen::Index f = 0; f < out.faces.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const std::int32_t v = model.faces()(f, k), t = uv_faces(f, k);
-      auto& kept = first_uv[static_cast<size_t>(v)];
-      if (kept < 0) kept = t;
-      if (kept == t) {
-        out.uv[static_cast<size_t>(v)] = {uv(t, 0), uv(t, 1)};
-        continue;
-      }
-      auto [it, fresh] = copies.try_emplace({v, t}, static_cast<std::int32_t>(out.source.size()));
-      if (fresh) {
-        out.source.push_back(static_cast<size_t>(v));
-        out.uv.push_back({uv(t, 0), uv(t, 1)});
-      }
-      out.faces(f, k) = it->second;
-    }
-  return out;
-}
-
 }  // namespace
 
 namespace {
@@ -185,7 +146,7 @@ std::string tinygltf_glb(const BodyModel& model, const Vertices& rest, const Glb
   check_inputs(model, rest, options);
   const auto& data = model.data();
   const int joint_count = model.joint_count();
-  const SplitMesh split = split_at_uv_seams(model);
+  const UvSplitMesh& split = model.uv_split();
   const size_t n = split.source.size();  // vertices written
   auto src = [&](size_t v) { return static_cast<Eigen::Index>(split.source[v]); };
 

@@ -6,6 +6,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -61,6 +62,14 @@ struct BodyModelData {
   ErrorOrigin supplied_by = ErrorOrigin::Caller;
 };
 
+// The mesh with one UV per vertex, as GPU formats (glTF, VRM) need it: a vertex on a UV seam is
+// written once per UV it has. Vertex v of this mesh is model vertex source[v] with UV uv[v].
+struct UvSplitMesh {
+  std::vector<size_t> source;
+  std::vector<std::array<double, 2>> uv;  // OBJ convention; (0, 0) without a layout
+  Faces faces;                            // F×3 into this mesh's vertices
+};
+
 class BodyModel {
  public:
   // Validates shapes, indices and sums; throws Error(Format) naming the array on inconsistency.
@@ -75,6 +84,9 @@ class BodyModel {
   int shape_count() const { return static_cast<int>(data_.shape_directions.cols()); }
   const Faces& faces() const { return data_.faces; }
   bool has_uvs() const { return data_.uv_faces.rows() > 0; }
+  // Worked out once, when the model is built: it depends only on the faces and the UV layout,
+  // and the .glb writer spent a tenth of its time redoing it per avatar (docs/performance.md).
+  const UvSplitMesh& uv_split() const { return uv_split_; }
 
   // Landmark vertex index; throws Error(Unsupported) naming the landmark if the model lacks it.
   int landmark(const std::string& name) const;
@@ -98,6 +110,7 @@ class BodyModel {
   // Single-precision copy of the shape directions for rest_vertices: the product is bound by
   // memory traffic, and float halves it (error ≤ 1e-8 m, far below any measurement's precision).
   Eigen::MatrixXf shape_directions_f_;
+  UvSplitMesh uv_split_;
 };
 
 }  // namespace caliper
