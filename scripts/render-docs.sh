@@ -11,8 +11,8 @@ $c render --sex female --beta 0 -o docs/images/mannequin-mean-female.png "${size
 $c render --sex male --beta 0 -o docs/images/mannequin-mean-male.png "${size[@]}"
 $c render --sex male --height 193 --weight 72 -o docs/images/mannequin-tall-thin.png "${size[@]}"
 $c render --sex female --height 153 --weight 88 -o docs/images/mannequin-short-heavy.png "${size[@]}"
-# Head close-ups (the relief's face): front, side, three-quarter.
-head=(--pose a --focus head --views front,side,three-quarter --image-width 360 --image-height 400)
+# Head close-ups (the relief's face, the nape): front, side, back, three-quarter.
+head=(--pose a --focus head --views front,side,back,three-quarter --image-width 360 --image-height 400)
 $c render --sex female --beta 0 -o docs/images/mannequin-head.png "${head[@]}"
 $c render --sex male --beta 0 -o docs/images/mannequin-head-male.png "${head[@]}"
 # The rig at work: mid-stride, knees and elbows bent by the skinning weights.

@@ -1028,18 +1028,43 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const std::array<Key, 4> keys = {{{kc, 0.0, 0.0}, {kch, 0.30 * span, kJawLift * span},
                                       {torso_key_ring(kMouth), 0.18 * span, 0.4 * kJawLift * span},
                                       {torso_key_ring(kNose), 0.06 * span, 0.0}}};
-    for (size_t i = 0; i < keys.size(); ++i) {
-      const int k0 = keys[i].ring, k1 = i + 1 < keys.size() ? keys[i + 1].ring : kgl;
-      const Key next = i + 1 < keys.size() ? keys[i + 1] : Key{kgl, 0.0, 0.0};
-      // Into the level glabella ring the pitch eases out (zero slope), or the back and sides of
-      // the head would fold along that ring.
-      const bool last = i + 1 == keys.size();
-      for (int k = k0; k < k1; ++k) {
-        const double u = static_cast<double>(k - k0) / (k1 - k0);
-        P.torso_pitch[static_cast<size_t>(k)] = last ? keys[i].pitch * (1 - u) * (1 - u) : std::lerp(keys[i].pitch, next.pitch, u);
-        P.torso_jaw_lift[static_cast<size_t>(k)] = std::lerp(keys[i].jaw, next.jaw, u);
-      }
+    // Smooth curves through the keys, over the rings' levels: interpolated linearly, the pitch and
+    // the lift changed slope at the chin ring, and the side of the neck showed a line there from
+    // the jaw's angle back. Into the level glabella ring both ease out (zero slope), or the back
+    // and sides of the head would fold along that ring.
+    std::vector<double> ky, kpitch, kjaw;
+    for (const Key& key : keys) {
+      ky.push_back(P.torso[static_cast<size_t>(key.ring)].y);
+      kpitch.push_back(key.pitch);
+      kjaw.push_back(key.jaw);
     }
+    for (double above : {0.0, span}) {
+      ky.push_back(P.torso[static_cast<size_t>(kgl)].y + above);
+      kpitch.push_back(0.0);
+      kjaw.push_back(0.0);
+    }
+    const MonotoneCurve pitch(ky, kpitch), jaw(ky, kjaw);
+    for (int k = kc; k < kgl; ++k) {
+      P.torso_pitch[static_cast<size_t>(k)] = pitch(P.torso[static_cast<size_t>(k)].y);
+      P.torso_jaw_lift[static_cast<size_t>(k)] = jaw(P.torso[static_cast<size_t>(k)].y);
+    }
+  }
+  // The nape: the backs of the rings between the cervicale and nose rings follow one smooth curve
+  // from the back of the neck out to the occiput. Interpolated between their key rings, the chin
+  // ring's back stood out past the mouth ring's, a roll under the skull (a helmet's rim from
+  // behind). The curve passes through the cervicale and nose rings' backs, its slopes set by the
+  // rings beyond them, and gives each ring in between its back depth.
+  {
+    const int kc = torso_key_ring(kCervicale), kn = torso_key_ring(kNose);
+    auto back_y = [&](int k) { return P.torso[static_cast<size_t>(k)].y + P.torso_pitch[static_cast<size_t>(k)]; };
+    auto back_z = [&](int k) { return P.torso[static_cast<size_t>(k)].cz - P.torso[static_cast<size_t>(k)].db; };
+    std::vector<double> ys, zs;
+    for (int k : {kc - 1, kc, kn, kn + 1}) {
+      ys.push_back(back_y(k));
+      zs.push_back(back_z(k));
+    }
+    const MonotoneCurve nape(ys, zs);
+    for (int k = kc + 1; k < kn; ++k) P.torso[static_cast<size_t>(k)].db = P.torso[static_cast<size_t>(k)].cz - nape(back_y(k));
   }
   // Dome: a quarter-superellipse from the glabella ring to the vertex (dome_ring).
   P.head_top = d.S;
@@ -2205,8 +2230,6 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
   const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
   const double head_cz = glab.cz;
-  auto back_y = [&](int key) { return torso_point_y(P, torso_key_ring(key), 0.0, -1.0); };
-  const double y_nape0 = back_y(kMouth), y_nape1 = std::max(back_y(kNose), y_nape0 + 0.5 * cm);
   // The face's height, glabella to chin, as a share of its usual 13.06 head centimetres (less
   // where a short neck lifts the chin ring): the face's features are laid out over it.
   const double face = std::clamp((y_g - ring_y(kChin)) / (13.06 * hu), 0.3, 1.0);
@@ -2275,15 +2298,6 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         const double side = smoothstep(0.55, 0.85, s);
         const double ear = 0.85 * blob(Y + 4.3, Z + 1.1, 2.8, 1.6) - 0.40 * blob(Y + 4.6, Z + 0.7, 1.3, 0.8);
         h += side * ear * hu;
-        // The nape: the back of the neck curves out into the occiput. The rings' pitch brings the
-        // mouth and nose rings' backs within ~2 cm of each other, and the skull's underside between
-        // them met the straight neck in a roll (a helmet's rim from behind); this fills the hollow
-        // under it.
-        {
-          const double dy = y - y_nape0, span = y_nape1 - y_nape0;
-          const double prof = dy > 0 ? blob(dy, 0, 1.2 * span, 1) : blob(dy, 0, 2.2 * span, 1);
-          h += back * 0.8 * hu * prof * blob(x, 0, 1.4 * glab.a, 1);
-        }
       }
       // Torso, front.
       {

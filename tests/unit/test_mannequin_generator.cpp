@@ -504,6 +504,25 @@ TEST(MannequinGenerator, ShouldersBendWithoutFolding) {
   }
 }
 
+// The back of the neck curves out into the back of the skull without a roll: from the cervicale
+// up to the opisthocranion the back's midline only moves backward (or stays), within 0.2 mm. The
+// rings under the skull once left a roll there, 2 mm proud of the hollow above it.
+TEST(MannequinGenerator, NapeRisesIntoTheSkullWithoutARoll) {
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const auto& lm = mq::topology().landmarks;
+    const double y0 = v(lm.at("cervicale"), 1), y1 = v(lm.at("opisthocranion"), 1);
+    ASSERT_LT(y0 + 0.05, y1) << to_string(sex);
+    double previous = 1e9;
+    for (double y = y0; y <= y1; y += 0.002) {
+      const double back = extreme_z(cut(v, mq::topology().faces, y), 0.0, 0.005, -1);
+      EXPECT_LE(back, previous + 0.0002) << to_string(sex) << ", " << d.at("stature") << " m tall, at "
+                                         << 100 * (y - y0) << " cm above the cervicale";
+      previous = back;
+    }
+  }
+}
+
 // SMPL and SMPL-H pose data drive the rig by joint name: SMPL's 72 values and SMPL-H's
 // 156 land on the joints they name; a model without fingers drops SMPL-H's finger values.
 TEST(PoseFromValues, SmplAndSmplhValuesLandOnTheirJoints) {
