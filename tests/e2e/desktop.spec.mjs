@@ -483,6 +483,13 @@ try {
   await settle(n + 1);
   check(await page.locator('#verdict').innerText() === 'plausible' && /R6 · 6 inputs/.test(await page.locator('#regressor-used').innerText()),
     'R6 with a fitting arm length is plausible', await page.locator('#verdict').innerText());
+  if (screenshots) {  // docs/cli.md: the arm length as measured, its rest-pose value in the note
+    const table = page.locator('#measurements');
+    await table.scrollIntoViewIfNeeded();
+    const box = await table.boundingBox();
+    await page.screenshot({ path: join(screenshots, 'desktop-tool-arm-length.png'),
+      clip: { x: box.x, y: box.y, width: box.width, height: Math.min(box.height, 410) } });
+  }
   n = await updates();
   await page.fill('#in-arm_length', (fittingArm + 6).toFixed(1));
   await settle(n + 1);
