@@ -6,8 +6,8 @@
 #include <array>
 #include <cmath>
 #include <fstream>
-#include <string>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 

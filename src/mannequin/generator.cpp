@@ -85,6 +85,7 @@ constexpr double kShoulderSmoothInner = 0.04, kShoulderSmoothOuter = 0.12;
 constexpr int kShoulderSmoothRounds = 15;
 // Fairing of the groin: the torso's bottom rings and the legs' first rings (above the thigh ring).
 constexpr int kFairGroinTorsoRings = 2, kFairGroinLegRings = 2;
+constexpr double kCrotchOpen = 0.008;  // m on a 1.70 m body: see build()
 constexpr int kThumbN = 2 * (kThumbQ1 - kThumbQ0) + 2 * kThumbRows;
 
 // Torso key levels and ring intervals between consecutive keys.
@@ -1530,7 +1531,11 @@ void build(const BodyPlan& P, Builder& B) {
           else c = -std::cos(kPi * (k - kTorsoN / 2) / (kBridge + 1.0));
           y += P.seat_drop_side * s * s + P.seat_drop_back * std::max(0.0, -c) * std::max(0.0, -c);
         }
-        const Vec3 p{q.x(), y, q.y()};
+        Vec3 p{q.x(), y, q.y()};
+        // The crotch: the legs' first rings stand kCrotchOpen further from the mid-line on their
+        // medial side, so the surface rounds under the crotch bridge instead of folding there
+        // (the two thighs' faces met at the bridge about 40° apart, the torso's largest crease).
+        if (r == 1) p.x() += kCrotchOpen * (P.head_top / 1.70) * smoothstep(0.3, 1.0, -std::sin(phi[static_cast<size_t>(k)]));
         L[static_cast<size_t>(r)][static_cast<size_t>(k)] = B.add(sd == 0 ? p : mirror(p), Part::Leg, sd == 0 ? 1 : -1);
       }
     }

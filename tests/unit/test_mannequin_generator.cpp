@@ -706,7 +706,7 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
         if (is_feature_region(r.region)) continue;
         const double p99_bound = r.region == BodyRegion::Legs ? 52 : r.region == BodyRegion::Arms ? 42 : 50;
         EXPECT_LE(r.p99_degrees, p99_bound) << "subject " << s.id << ", " << to_string(r.region);
-        EXPECT_LE(r.max_degrees, 150) << "subject " << s.id << ", " << to_string(r.region) << " edge " << r.worst.a << "-" << r.worst.b;
+        EXPECT_LE(r.max_degrees, 130) << "subject " << s.id << ", " << to_string(r.region) << " edge " << r.worst.a << "-" << r.worst.b;
       }
       for (const auto& miss : relief_failures(model, v, dims)) ADD_FAILURE() << "subject " << s.id << ": " << miss;
       // A chest whose circumference no plausible section of its breadth and depth reaches grows
