@@ -2273,19 +2273,14 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           f += height * prof * blob(X, 0, half, 1);
           f += 0.45 * blob(X - 1.5, Y + 5.9, 1.0, 0.8);  // the nostrils' wings
         }
-        // The face is not a flat mask: from the midline the cheeks and the eyes' outer corners
-        // fall back toward the ears (deepest 1 cm at 4 cm out, fading at the sides, where the
-        // front weight ends, and upward into the brow, whose ring carries the head's measures).
-        {
-          const double q = sq(X / 4.0);
-          f -= 1.0 * q * std::exp(1 - q) * smoothstep(0.5, 6.0, -Y) * (1 - smoothstep(11.0, 14.0, -Y)) *
-               (1 - smoothstep(4.0, 7.5, X));  // fading before the front weight does, or its edge is a rim
-        }
+        // No hollow under the cheekbone: the head rings' own curve carries the face round to the
+        // ears, and a relief falling back from the midline had to rise again where the front
+        // weight ends, a trough that made the face a skull's.
         f += 0.40 * blob(X - 4.0, Y + 4.0, 1.8, 1.1);    // cheekbone
-        f += 0.30 * blob(X - 3.0, Y + 5.6, 1.8, 1.8);    // the cheek's fullness under it
-        f += 0.38 * blob(X, Y + 7.75, 2.4, 0.75);        // upper lip
-        f += 0.32 * blob(X, Y + 9.1, 2.0, 0.7);          // lower lip
-        f -= 0.35 * blob(X, Y + 8.45, 2.7, 0.35);        // mouth line
+        f += 0.55 * blob(X - 3.2, Y + 5.8, 2.0, 2.0);    // the cheek's fullness under it
+        f += 0.30 * blob(X, Y + 7.75, 2.1, 0.75);        // upper lip
+        f += 0.28 * blob(X, Y + 9.1, 1.8, 0.7);          // lower lip
+        f -= 0.30 * blob(X, Y + 8.45, 2.5, 0.35);        // mouth line
         f -= 0.15 * blob(X - 2.7, Y + 8.5, 0.8, 0.8);    // mouth corners
         f -= 0.28 * blob(X, Y + 10.3, 2.2, 0.7);         // labiomental fold
         f += 0.30 * blob(X, Y + 11.9, 2.0, 1.2);         // chin
