@@ -729,6 +729,16 @@ void plan_toes(const Dims& d, BodyPlan& P) {
   }
 }
 
+// The height of torso ring k's point at angle t (s = sin t, c = cos t): the ring's level, raised
+// by its tilts (sides, flanks, back), its pitch (the head's back) and the jaw's lift (the face's
+// sides). build() places the rings with it; sculpt() finds where a ring's back ended up.
+double torso_point_y(const BodyPlan& P, int k, double s, double c) {
+  const size_t i = static_cast<size_t>(k);
+  return P.torso[i].y + P.torso_tilt_side[i] * s * s + P.torso_tilt_flank[i] * smoothstep(0.45, 0.95, s * s) +
+         P.torso_tilt_back[i] * std::max(0.0, -c) * std::max(0.0, -c) + P.torso_pitch[i] * 0.5 * (1 - c) +
+         P.torso_jaw_lift[i] * s * s * smoothstep(-1.0, 0.4, c);
+}
+
 BodyPlan plan_body(const Dims& d, Sex sex) {
   BodyPlan P;
   const bool female = sex == Sex::Female;
@@ -1033,18 +1043,18 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // the lift changed slope at the chin ring, and the side of the neck showed a line there from
     // the jaw's angle back. Into the level glabella ring both ease out (zero slope), or the back
     // and sides of the head would fold along that ring.
-    std::vector<double> ky, kpitch, kjaw;
+    std::vector<double> key_y, kpitch, kjaw;
     for (const Key& key : keys) {
-      ky.push_back(P.torso[static_cast<size_t>(key.ring)].y);
+      key_y.push_back(P.torso[static_cast<size_t>(key.ring)].y);
       kpitch.push_back(key.pitch);
       kjaw.push_back(key.jaw);
     }
     for (double above : {0.0, span}) {
-      ky.push_back(P.torso[static_cast<size_t>(kgl)].y + above);
+      key_y.push_back(P.torso[static_cast<size_t>(kgl)].y + above);
       kpitch.push_back(0.0);
       kjaw.push_back(0.0);
     }
-    const MonotoneCurve pitch(ky, kpitch), jaw(ky, kjaw);
+    const MonotoneCurve pitch(key_y, kpitch), jaw(key_y, kjaw);
     for (int k = kc; k < kgl; ++k) {
       P.torso_pitch[static_cast<size_t>(k)] = pitch(P.torso[static_cast<size_t>(k)].y);
       P.torso_jaw_lift[static_cast<size_t>(k)] = jaw(P.torso[static_cast<size_t>(k)].y);
@@ -1057,7 +1067,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   // rings beyond them, and gives each ring in between its back depth.
   {
     const int kc = torso_key_ring(kCervicale), kn = torso_key_ring(kNose);
-    auto back_y = [&](int k) { return P.torso[static_cast<size_t>(k)].y + P.torso_pitch[static_cast<size_t>(k)]; };
+    auto back_y = [&](int k) { return torso_point_y(P, k, 0, -1); };
     auto back_z = [&](int k) { return P.torso[static_cast<size_t>(k)].cz - P.torso[static_cast<size_t>(k)].db; };
     std::vector<double> ys, zs;
     for (int k : {kc - 1, kc, kn, kn + 1}) {
@@ -1445,16 +1455,6 @@ void emit_digit(Builder& B, const std::vector<std::vector<int>>& rings, int pole
   const bool flip = (b - a).cross(d - a).dot(a - c) < 0;
   for (size_t r = 0; r + 1 < rings.size(); ++r) B.strip(rings[r], rings[r + 1], flip);
   B.fan(rings.back(), pole, flip);
-}
-
-// The height of torso ring k's point at angle t (s = sin t, c = cos t): the ring's level, raised
-// by its tilts (sides, flanks, back), its pitch (the head's back) and the jaw's lift (the face's
-// sides). build() places the rings with it; sculpt() finds where a ring's back ended up.
-double torso_point_y(const BodyPlan& P, int k, double s, double c) {
-  const size_t i = static_cast<size_t>(k);
-  return P.torso[i].y + P.torso_tilt_side[i] * s * s + P.torso_tilt_flank[i] * smoothstep(0.45, 0.95, s * s) +
-         P.torso_tilt_back[i] * std::max(0.0, -c) * std::max(0.0, -c) + P.torso_pitch[i] * 0.5 * (1 - c) +
-         P.torso_jaw_lift[i] * s * s * smoothstep(-1.0, 0.4, c);
 }
 
 // Emits triangle t facing `outward`.
