@@ -498,8 +498,11 @@ TEST(MannequinGenerator, ShouldersBendWithoutFolding) {
     for (double degrees : {45.0, -60.0}) {
       const Vertices posed = pose_vertices(model, v, a_pose(model, degrees));
       EXPECT_TRUE(self_intersections(posed, mq::topology().faces, 1).empty()) << to_string(sex) << " " << degrees << "°";
-      for (const auto& r : crease_report(posed, mq::topology().faces, regions))
-        if (r.region == BodyRegion::Arms) EXPECT_LT(r.max_degrees, 120) << to_string(sex) << " " << degrees << "°";
+      for (const auto& r : crease_report(posed, mq::topology().faces, regions)) {
+        if (r.region == BodyRegion::Arms) {
+          EXPECT_LT(r.max_degrees, 120) << to_string(sex) << " " << degrees << "°";
+        }
+      }
     }
   }
 }
