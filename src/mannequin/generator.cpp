@@ -78,7 +78,8 @@ constexpr int kHoleRows = 8;                // ring intervals spanned by the arm
 constexpr int kThumbQ0 = 27, kThumbQ1 = 31; // thumb hole columns on the hand (q = 28 is +Z), a little under its edge
 constexpr int kThumbRows = 3;
 // Fairing of the shoulder (fair()): torso columns beside the armpit hole, arm rings after it.
-constexpr int kFairColumns = 6, kFairArmRings = 3, kFairIterations = 30;
+// kFairArmTaper more arm rings take a shrinking share of each step (3/4, 1/2, 1/4).
+constexpr int kFairColumns = 6, kFairArmRings = 3, kFairArmTaper = 3, kFairIterations = 30;
 // Smoothing the shoulder's skin weights (smooth_shoulder_weights()): full within the inner radius
 // of the shoulder joint, fading to none at the outer (metres on a 1.70 m body).
 constexpr double kShoulderSmoothInner = 0.04, kShoulderSmoothOuter = 0.12;
@@ -856,6 +857,11 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // Round, not boxy, at the shoulders' top: the front and back of the shoulders turn into the
     // arm's root without a corner.
     r.p = 1.8;
+    // The upper back is furthest back at the shoulder blades and comes forward above them: the
+    // shoulders' top ring stands at least 1 cm in front of the axilla ring's back. Set from the
+    // chest depth alone it stood behind it on many women, and the back turned forward into the
+    // neck along one ring, a ledge across the back from shoulder to shoulder.
+    r.db = std::min(r.db, r.cz - (K[kAxilla].cz - K[kAxilla].db + 0.01 * sc));
     K[kHoleTop] = r;
   }
   const double neck_r = d.neckc / (2 * kPi);
@@ -2018,7 +2024,9 @@ Dimensions complete_dimensions(const Dimensions& partial, Sex sex) {
 // symmetric.
 struct Fairing {
   std::vector<int> left, right;              // free vertices; right[i] mirrors left[i]
-  std::vector<char> level;                   // 1: moves horizontally only (keeps its ring's height)
+  std::vector<Vec3> freedom;                 // per axis, 1 where left[i] may move, 0 where not
+  std::vector<double> weight;                // share of each smoothing step taken
+  std::vector<char> hole_bottom;             // 1: on the armpit hole's bottom edge (see fair())
   std::vector<std::vector<int>> neighbours;  // one-ring of left[i]
 };
 
@@ -2030,18 +2038,30 @@ Fairing make_fairing() {
   std::set<int> pinned;
   for (const auto& [name, id] : B.landmarks) pinned.insert(id);
   Fairing f;
-  auto take = [&](int l, int r, bool level = false) {
+  const Vec3 free(1, 1, 1), level(1, 0, 1);  // level: keeps its ring's height
+  auto take = [&](int l, int r, const Vec3& freedom, double w = 1.0, bool hole_bottom = false) {
     if (l < 0 || pinned.count(l) || pinned.count(r)) return;
     f.left.push_back(l);
     f.right.push_back(r);
-    f.level.push_back(level);
+    f.freedom.push_back(freedom);
+    f.weight.push_back(w);
+    f.hole_bottom.push_back(hole_bottom);
   };
   const int kax = torso_key_ring(kAxilla);
-  for (int k = kax + 1; k <= torso_key_ring(kShoulder2); ++k)
+  // From the hole's bottom edge up: left out, its corners stayed sharp, a notch in front of and
+  // behind the armpit. That edge keeps its height (free to rise, it folded over the ring under
+  // it where the armpit sits close above the chest).
+  for (int k = kax; k <= torso_key_ring(kShoulder2); ++k)
     for (int j = kHoleJ0 - kFairColumns; j <= kHoleJ1 + kFairColumns; ++j)
-      take(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)]);
-  for (int r = 1; r <= kFairArmRings; ++r)
-    for (int q = 0; q < kArmN; ++q) take(B.arm[0][static_cast<size_t>(r)][static_cast<size_t>(q)], B.arm[1][static_cast<size_t>(r)][static_cast<size_t>(q)]);
+      take(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)],
+           k > kax ? free : level, 1.0, k == kax);
+  // The arm's first rings move fully, the next ones less and less: where the faired rings met
+  // the first fixed one, a ring showed round the upper arm (in the rest pose most).
+  for (int r = 1; r <= kFairArmRings + kFairArmTaper; ++r) {
+    const double w = r <= kFairArmRings ? 1.0 : static_cast<double>(kFairArmRings + kFairArmTaper + 1 - r) / (kFairArmTaper + 1);
+    for (int q = 0; q < kArmN; ++q)
+      take(B.arm[0][static_cast<size_t>(r)][static_cast<size_t>(q)], B.arm[1][static_cast<size_t>(r)][static_cast<size_t>(q)], free, w);
+  }
   // The groin: where one torso ring around both thighs meets a tube around each thigh, the
   // torso's bottom rings stand out over the thighs' front-lateral quarter and the surface folds
   // along a horizontal line (a shorts hem). Fairing the two bottom torso rings and the legs' first
@@ -2050,7 +2070,7 @@ Fairing make_fairing() {
   // other on heavy bodies. Not the inner thigh beside the crotch bridge, whose fold between the
   // legs would sharpen.
   std::set<int> seen(f.left.begin(), f.left.end());
-  auto take_once = [&](int l, int r) { if (seen.insert(l).second) take(l, r, true); };
+  auto take_once = [&](int l, int r) { if (seen.insert(l).second) take(l, r, level); };
   for (int k = 0; k < kFairGroinTorsoRings; ++k)
     for (int j = 1; j < kTorsoN / 2; ++j)
       take_once(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)]);
@@ -2061,7 +2081,10 @@ Fairing make_fairing() {
   return f;
 }
 
-void fair(std::vector<Vec3>& v) {
+// hole_bottom_share scales the steps of the armpit hole's bottom edge: fairing moves it out a
+// little, which widens the chest section where the chest level lies just under the armpit (1–2 cm
+// on bodies whose ANSUR axilla is at or below their chest height), so there it fades out.
+void fair(std::vector<Vec3>& v, double hole_bottom_share) {
   static const Fairing f = make_fairing();
   std::vector<Vec3> step(f.left.size());
   for (int it = 0; it < 2 * kFairIterations; ++it) {
@@ -2070,9 +2093,10 @@ void fair(std::vector<Vec3>& v) {
       Vec3 mean = Vec3::Zero();
       for (int n : f.neighbours[i]) mean += v[static_cast<size_t>(n)];
       step[i] = factor * (mean / static_cast<double>(f.neighbours[i].size()) - v[static_cast<size_t>(f.left[i])]);
-      if (f.level[i]) step[i].y() = 0;
+      step[i] = step[i].cwiseProduct(f.freedom[i]);
     }
-    for (size_t i = 0; i < f.left.size(); ++i) v[static_cast<size_t>(f.left[i])] += step[i];
+    for (size_t i = 0; i < f.left.size(); ++i)
+      v[static_cast<size_t>(f.left[i])] += f.weight[i] * (f.hole_bottom[i] ? hole_bottom_share : 1.0) * step[i];
   }
   for (size_t i = 0; i < f.left.size(); ++i) v[static_cast<size_t>(f.right[i])] = mirror(v[static_cast<size_t>(f.left[i])]);
 }
@@ -2258,10 +2282,16 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         double f = 0;
         // Brow ridge, under the glabella ring, ending level at it (that ring carries the head's
         // measures and does not move: a ridge that stops short of it shades a line across the forehead).
-        f += 0.40 * blob(X - 2.9, Y + 1.3, 2.8, 1.3);
-        f -= 0.85 * blob(X - 3.1, Y + 2.35, 1.8, 1.35);  // eye socket
-        f += 0.42 * blob(X - 3.1, Y + 2.45, 1.2, 0.8);   // the eye (lids) inside it
-        f += 0.22 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
+        f += 0.30 * blob(X - 2.9, Y + 1.3, 2.8, 1.3);
+        // Eye socket: deep under the brow, shallow under the eye, so the lower lid runs on into
+        // the cheek (a socket as deep below as above left a dark band under each eye and a
+        // bright one across the cheekbones: a face in stripes).
+        {
+          const double dy = Y + 2.35;
+          f -= 0.85 * blob(X - 3.1, dy, 1.6, dy < 0 ? 0.9 : 1.35);
+        }
+        f += 0.42 * blob(X - 3.1, Y + 2.7, 1.2, 0.9);    // the eye (lids) inside it
+        f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
         f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
         // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
         {
@@ -2275,13 +2305,14 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         }
         // No hollow under the cheekbone: the head rings' own curve carries the face round to the
         // ears, and a relief falling back from the midline had to rise again where the front
-        // weight ends, a trough that made the face a skull's.
-        f += 0.40 * blob(X - 4.0, Y + 4.0, 1.8, 1.1);    // cheekbone
-        f += 0.55 * blob(X - 3.2, Y + 5.8, 2.0, 2.0);    // the cheek's fullness under it
-        f += 0.30 * blob(X, Y + 7.75, 2.1, 0.75);        // upper lip
+        // weight ends, a trough that made the face a skull's. No cheekbone ridge either: its
+        // lit top and shaded underside drew one more band across the face; the cheek is one
+        // round fullness.
+        f += 0.40 * blob(X - 3.2, Y + 5.8, 2.0, 2.0);    // the cheek
+        f += 0.30 * blob(X, Y + 7.75, 1.9, 0.75);        // upper lip
         f += 0.28 * blob(X, Y + 9.1, 1.8, 0.7);          // lower lip
-        f -= 0.30 * blob(X, Y + 8.45, 2.5, 0.35);        // mouth line
-        f -= 0.15 * blob(X - 2.7, Y + 8.5, 0.8, 0.8);    // mouth corners
+        f -= 0.30 * blob(X, Y + 8.45, 2.1, 0.35);        // mouth line, no wider than the lips
+        f -= 0.08 * blob(X - 2.3, Y + 8.5, 0.8, 0.8);    // mouth corners
         f -= 0.28 * blob(X, Y + 10.3, 2.2, 0.7);         // labiomental fold
         f += 0.30 * blob(X, Y + 11.9, 2.0, 1.2);         // chin
         // The jaw line: the mandible's lower border from the chin back to its angle, the soft
@@ -2308,10 +2339,11 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, female ? 4.5 : 5.0, upper) * cm, 1);
         // Men: the pectorals' lower border, rising from the sternum to the armpit.
         if (!female) {
-          const double amp = (1 - fem) * 1.1 * cm;
+          // Shallow and wide: 1.1 cm deep, rising over 2.6 cm above, it drew a line across the chest.
+          const double amp = (1 - fem) * 0.9 * cm;
           const double yb = y_ch - 3.2 * cm + 6.5 * cm * sq(x / a_ch);
           const double dy = y - yb;
-          const double prof = dy > 0 ? blob(dy, 0, 2.6 * cm, 1) : blob(dy, 0, 5.0 * cm, 1);
+          const double prof = dy > 0 ? blob(dy, 0, 3.5 * cm, 1) : blob(dy, 0, 6.0 * cm, 1);
           h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * a_ch, 0.9 * a_ch);
         }
         // Women: the fold under each breast.
@@ -2814,7 +2846,11 @@ Vertices generate(const Dimensions& dims, Sex sex) {
   const BodyPlan P = plan_body(d, sex);
   Builder B;
   build(P, B);
-  fair(B.v);
+  {
+    const double sc = d.S / 1.70;
+    const double chest_gap = P.torso[static_cast<size_t>(torso_key_ring(kAxilla))].y - P.torso[static_cast<size_t>(torso_key_ring(kChest))].y;
+    fair(B.v, smoothstep(1.5 * 0.01 * sc, 3.0 * 0.01 * sc, chest_gap));
+  }
   add_landmarks(B);
   sculpt(P, d, sex, B);
   Vertices out(static_cast<Eigen::Index>(B.v.size()), 3);
