@@ -2081,9 +2081,15 @@ Fairing make_fairing() {
   return f;
 }
 
-// hole_bottom_share scales the steps of the armpit hole's bottom edge: fairing moves it out a
-// little, which widens the chest section where the chest level lies just under the armpit (1–2 cm
-// on bodies whose ANSUR axilla is at or below their chest height), so there it fades out.
+// The share of each step the armpit hole's bottom edge takes: fairing moves it out a little,
+// which widens the chest section where the chest level lies just under the armpit (1–2 cm on
+// bodies whose ANSUR axilla is at or below their chest height), so there it fades out.
+double hole_bottom_share(const BodyPlan& P, const Dims& d) {
+  const double sc = d.S / 1.70;
+  const double chest_gap = P.torso[static_cast<size_t>(torso_key_ring(kAxilla))].y - P.torso[static_cast<size_t>(torso_key_ring(kChest))].y;
+  return smoothstep(1.5 * 0.01 * sc, 3.0 * 0.01 * sc, chest_gap);
+}
+
 void fair(std::vector<Vec3>& v, double hole_bottom_share) {
   static const Fairing f = make_fairing();
   std::vector<Vec3> step(f.left.size());
@@ -2846,11 +2852,7 @@ Vertices generate(const Dimensions& dims, Sex sex) {
   const BodyPlan P = plan_body(d, sex);
   Builder B;
   build(P, B);
-  {
-    const double sc = d.S / 1.70;
-    const double chest_gap = P.torso[static_cast<size_t>(torso_key_ring(kAxilla))].y - P.torso[static_cast<size_t>(torso_key_ring(kChest))].y;
-    fair(B.v, smoothstep(1.5 * 0.01 * sc, 3.0 * 0.01 * sc, chest_gap));
-  }
+  fair(B.v, hole_bottom_share(P, d));
   add_landmarks(B);
   sculpt(P, d, sex, B);
   Vertices out(static_cast<Eigen::Index>(B.v.size()), 3);
