@@ -914,7 +914,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // of the neck stays straight (a slight hollow only) up to the skull.
     r.a = std::max(0.78 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = 0.78 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
-    r.front_taper = 0.5;  // the jaw narrows toward the chin: a U from the front, not a box
+    // The jaw narrows toward the chin: a U from the front, not a box. By a half near the midline
+    // it came to a point; a man's chin is broader and squarer than a woman's.
+    r.front_taper = std::lerp(0.30, 0.38, fem);
     K[kChin] = r;
     // The back of the neck runs up to the occiput; the skull bulges out only above it.
     r.y = y_mouth; r.a = std::max(0.8 * hb2, r.a + 0.003 * hs);  // never narrower than the jaw below
