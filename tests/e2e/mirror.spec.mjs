@@ -112,6 +112,15 @@ try {
   await page.click('#enter-vr');
   await page.waitForFunction(() => window.mirror.inXR === true, null, { timeout: 15000 });
   check(true, 'the page enters immersive VR (local-floor)');
+  // The mirror's texture has as many rows as the eye buffer (iwer draws into the page's WebGL
+  // canvas: its drawing buffer is the eye buffer).
+  await page.evaluate(() => window.__xrFrames(2));
+  const fit = await page.evaluate(() => ({ texture: window.mirror.mirrorTexture,
+    rows: [...document.querySelectorAll('canvas')].map((c) => c.getContext('webgl2')).filter((g) => g && g.drawingBufferHeight > 1)
+      .map((g) => g.drawingBufferHeight) }));
+  const rowsWanted = fit.rows.length === 1 ? Math.min(2048, Math.max(256, fit.rows[0])) : NaN;
+  check(fit.texture[1] === rowsWanted && Math.abs(fit.texture[0] / fit.texture[1] - 1.3 / 2.1) < 0.01,
+    'the mirror\'s texture has the eye buffer\'s rows, at the mirror\'s aspect', `${fit.texture.join('×')} for ${JSON.stringify(fit.rows)} rows`);
 
   const wrist = wristInGrip();     // the wrist joint in grip space (embodiment.js's documented offset)
   const ray = axisAngle([1, 0, 0], -0.6);     // controllers held forward, tilted
@@ -414,7 +423,7 @@ try {
   console.log(`frame callback (IK + bones + draw submission of both renders) over ${cb.n} XR frames: median ${cb.median.toFixed(2)} ms, p99 ${cb.p99.toFixed(2)} ms`);
   console.log(`frame interval (everything, SwiftShader rasterizing on the CPU, 480×360): median ${interval.median.toFixed(1)} ms, p99 ${interval.p99.toFixed(1)} ms`);
   const drawn = await page.evaluate(() => window.mirror.drawn);
-  console.log(`per frame (one view, both passes): ${drawn.calls} draw calls, ${drawn.triangles} triangles`);
+  console.log(`per frame (one view, both passes): ${drawn.calls} draw calls, ${drawn.triangles} triangles; the mirror's texture ${fit.texture.join(' × ')}`);
   check(cb.n >= Math.min(frameCount, 600) && Number.isFinite(cb.median), 'frame times measured');
 
   check(pageErrors.length === 0, 'no errors in the page', pageErrors.slice(0, 3).join(' | '));

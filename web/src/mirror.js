@@ -27,6 +27,7 @@ const state = {
   answering: false,
   answers: [],             // tasks answered from this page (for the test and the curious)
   inXR: false,
+  mirrorTexture: [0, 0],   // the mirror's texture size, pixels (fitMirrorTexture)
   xrFrames: 0,
   frames: 0,
   frameMs: new Float64Array(600),   // ring of per-frame times of the callback: IK, bones, both renders' submission
@@ -87,6 +88,18 @@ scene.add(wall);
 const mirror = new Reflector(new THREE.PlaneGeometry(MIRROR.width, MIRROR.height), {
   textureWidth: 1024, textureHeight: 1024 * (MIRROR.height / MIRROR.width), color: 0xc8ccd0,
 });
+// The mirror spans most of the view's height from where the user stands, so its texture gets as
+// many rows as the display (one eye's buffer in VR, the canvas outside), checked every frame:
+// more pixels than that are never seen, and fill rate is the mirror's whole cost
+// (docs/performance.md "Mirror").
+function fitMirrorTexture(xrFrame) {
+  const layer = xrFrame ? renderer.xr.getBaseLayer() : null;   // an XRWebGLLayer or a projection layer
+  const displayRows = layer ? layer.framebufferHeight ?? layer.textureHeight : renderer.domElement.height;
+  const rows = Math.min(2048, Math.max(256, Math.round(displayRows) || 1024));
+  if (rows === state.mirrorTexture[1]) return;
+  state.mirrorTexture = [Math.round(rows * (MIRROR.width / MIRROR.height)), rows];
+  mirror.getRenderTarget().setSize(...state.mirrorTexture);
+}
 mirror.position.set(0, MIRROR.height / 2 + 0.05, -MIRROR.distance);
 state.mirrorPlane = MIRROR;      // for the e2e test: where the mirror is
 scene.add(mirror);
@@ -304,6 +317,7 @@ function frame(time, xrFrame) {
     applyPose();
   }
   state.headDrawn.firstPerson = headMaterial.visible;
+  fitMirrorTexture(xrFrame);
   renderer.info.reset();
   renderer.render(scene, camera);
   state.drawn = { calls: renderer.info.render.calls, triangles: renderer.info.render.triangles };  // both passes
