@@ -1,5 +1,6 @@
 // Speed of the core pipeline on the built-in body (docs/performance.md):
-//   rest vertices for a β, training the four presets, measurements → .glb bytes, the map estimator.
+//   rest vertices for a β, training the four presets, measurements → .glb bytes, the map estimator,
+//   measuring, volume and a section, the self-intersection check.
 #include <benchmark/benchmark.h>
 
 #include "caliper/caliper.h"
@@ -101,5 +102,14 @@ void BM_VolumeAndSection(benchmark::State& state) {
   state.SetLabel(state.range(0) ? "hip_breadth section" : "volume");
 }
 BENCHMARK(BM_VolumeAndSection)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The self-intersection check the tests run on every generated and posed body.
+void BM_SelfIntersections(benchmark::State& state) {
+  const auto model = female_model();
+  const Vertices rest = model->rest_vertices(Eigen::VectorXd::Zero(model->shape_count()));
+  for (auto _ : state) benchmark::DoNotOptimize(self_intersections(rest, model->faces()));
+  state.counters["faces"] = static_cast<double>(model->faces().rows());
+}
+BENCHMARK(BM_SelfIntersections)->Unit(benchmark::kMillisecond);
 }  // namespace
 BENCHMARK_MAIN();

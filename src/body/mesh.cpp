@@ -108,52 +108,107 @@ bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, c
 
 }  // namespace
 
+namespace {
+
+// A face's box (metres, and in grid cells) and its plane (unnormalised normal n, offset n·a).
+struct FaceInGrid {
+  Eigen::Vector3d box_lo, box_hi;
+  std::array<int, 3> lo{}, hi{};
+  Eigen::Vector3d normal;
+  double offset = 0;
+};
+
+bool boxes_apart(const FaceInGrid& f, const FaceInGrid& g) {
+  for (int d = 0; d < 3; ++d)
+    if (f.box_hi(d) < g.box_lo(d) || g.box_hi(d) < f.box_lo(d)) return true;
+  return false;
+}
+
+// Are f's corners strictly on one side of g's plane? Then no edge of either can pass through the
+// other; three dot products instead of six segment tests. The margin leaves near-coplanar pairs to
+// the exact test.
+bool one_side_of(const Vertices& vertices, const Faces& faces, Eigen::Index f, const FaceInGrid& g, double cell) {
+  const double margin = 1e-12 * g.normal.norm() * cell;
+  int above = 0, below = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double* p = vertices.data() + 3 * faces(f, i);
+    const double side = g.normal.x() * p[0] + g.normal.y() * p[1] + g.normal.z() * p[2] - g.offset;
+    above += side > margin;
+    below += side < -margin;
+  }
+  return above == 3 || below == 3;
+}
+
+// Does an edge of f pass through g?
+bool edge_crosses(const Vertices& vertices, const Faces& faces, Eigen::Index f, Eigen::Index g) {
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d p = vertices.row(faces(f, i)), q = vertices.row(faces(f, (i + 1) % 3));
+    if (segment_hits_triangle(p, q, vertices.row(faces(g, 0)), vertices.row(faces(g, 1)), vertices.row(faces(g, 2))))
+      return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 std::vector<std::pair<std::int32_t, std::int32_t>> self_intersections(const Vertices& vertices, const Faces& faces,
                                                                       std::size_t max_pairs) {
   std::vector<std::pair<std::int32_t, std::int32_t>> hits;
   const Eigen::Index nf = faces.rows();
   if (nf == 0) return hits;
   // Grid cell: about twice the mean face extent, so most faces touch a few cells.
-  Eigen::Vector3d lo = vertices.colwise().minCoeff().transpose(), hi = vertices.colwise().maxCoeff().transpose();
+  const Eigen::Vector3d lo = vertices.colwise().minCoeff().transpose(), hi = vertices.colwise().maxCoeff().transpose();
+  std::vector<FaceInGrid> in_grid(static_cast<size_t>(nf));
   double mean_extent = 0;
   for (Eigen::Index f = 0; f < nf; ++f) {
-    Eigen::Vector3d a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)), c = vertices.row(faces(f, 2));
-    mean_extent += (a.cwiseMax(b).cwiseMax(c) - a.cwiseMin(b).cwiseMin(c)).maxCoeff();
+    const Eigen::Vector3d a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)), c = vertices.row(faces(f, 2));
+    FaceInGrid& g = in_grid[static_cast<size_t>(f)];
+    g.box_lo = a.cwiseMin(b).cwiseMin(c), g.box_hi = a.cwiseMax(b).cwiseMax(c);
+    g.normal = (b - a).cross(c - a);
+    g.offset = g.normal.dot(a);
+    mean_extent += (g.box_hi - g.box_lo).maxCoeff();
   }
   const double cell = std::max(1e-6, 2 * mean_extent / static_cast<double>(nf));
   const Eigen::Vector3i dims = (((hi - lo) / cell).array().floor().cast<int>() + 1).matrix();
   auto key = [&](int x, int y, int z) { return (static_cast<std::int64_t>(x) * dims.y() + y) * dims.z() + z; };
-  std::unordered_map<std::int64_t, std::vector<std::int32_t>> grid;
-  auto cells_of = [&](Eigen::Index f, auto&& visit) {
-    Eigen::Vector3d a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)), c = vertices.row(faces(f, 2));
-    const Eigen::Vector3i c0 = ((a.cwiseMin(b).cwiseMin(c) - lo) / cell).array().floor().cast<int>();
-    const Eigen::Vector3i c1 = ((a.cwiseMax(b).cwiseMax(c) - lo) / cell).array().floor().cast<int>();
-    for (int x = c0.x(); x <= c1.x(); ++x)
-      for (int y = c0.y(); y <= c1.y(); ++y)
-        for (int z = c0.z(); z <= c1.z(); ++z) visit(key(x, y, z));
-  };
-  for (Eigen::Index f = 0; f < nf; ++f) cells_of(f, [&](std::int64_t k) { grid[k].push_back(static_cast<std::int32_t>(f)); });
-  auto crosses = [&](Eigen::Index f, Eigen::Index g) {
-    for (int i = 0; i < 3; ++i) {
-      const Eigen::Vector3d p = vertices.row(faces(f, i)), q = vertices.row(faces(f, (i + 1) % 3));
-      if (segment_hits_triangle(p, q, vertices.row(faces(g, 0)), vertices.row(faces(g, 1)), vertices.row(faces(g, 2))))
-        return true;
+
+  // Every (cell, face) the face's box touches, sorted by cell: each cell's faces are one run.
+  std::vector<std::pair<std::int64_t, std::int32_t>> cell_faces;
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    FaceInGrid& g = in_grid[static_cast<size_t>(f)];
+    for (int d = 0; d < 3; ++d) {
+      g.lo[static_cast<size_t>(d)] = static_cast<int>(std::floor((g.box_lo(d) - lo(d)) / cell));
+      g.hi[static_cast<size_t>(d)] = static_cast<int>(std::floor((g.box_hi(d) - lo(d)) / cell));
     }
+    for (int x = g.lo[0]; x <= g.hi[0]; ++x)
+      for (int y = g.lo[1]; y <= g.hi[1]; ++y)
+        for (int z = g.lo[2]; z <= g.hi[2]; ++z) cell_faces.emplace_back(key(x, y, z), static_cast<std::int32_t>(f));
+  }
+  std::sort(cell_faces.begin(), cell_faces.end());
+
+  // A pair is tested once, in the first cell both boxes touch (the corner of their boxes'
+  // overlap), so no pair is tested twice however many cells they share.
+  auto first_shared_cell = [&](const FaceInGrid& f, const FaceInGrid& g) {
+    return key(std::max(f.lo[0], g.lo[0]), std::max(f.lo[1], g.lo[1]), std::max(f.lo[2], g.lo[2]));
+  };
+  auto share_vertex = [&](std::int32_t f, std::int32_t g) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (faces(f, i) == faces(g, j)) return true;
     return false;
   };
-  std::vector<std::int32_t> seen_stamp(static_cast<size_t>(nf), -1);
-  for (Eigen::Index f = 0; f < nf && hits.size() < max_pairs; ++f) {
-    cells_of(f, [&](std::int64_t k) {
-      for (std::int32_t g : grid[k]) {
-        if (g <= f || seen_stamp[static_cast<size_t>(g)] == f || hits.size() >= max_pairs) continue;
-        seen_stamp[static_cast<size_t>(g)] = static_cast<std::int32_t>(f);
-        bool shared = false;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) shared = shared || faces(f, i) == faces(g, j);
-        if (shared) continue;
-        if (crosses(f, g) || crosses(g, f)) hits.emplace_back(static_cast<std::int32_t>(f), g);
+  for (size_t run = 0; run < cell_faces.size() && hits.size() < max_pairs;) {
+    size_t end = run;
+    while (end < cell_faces.size() && cell_faces[end].first == cell_faces[run].first) ++end;
+    for (size_t i = run; i < end && hits.size() < max_pairs; ++i)
+      for (size_t j = i + 1; j < end && hits.size() < max_pairs; ++j) {
+        const std::int32_t f = cell_faces[i].second, g = cell_faces[j].second;
+        const FaceInGrid &in_f = in_grid[static_cast<size_t>(f)], &in_g = in_grid[static_cast<size_t>(g)];
+        if (first_shared_cell(in_f, in_g) != cell_faces[run].first || boxes_apart(in_f, in_g) || share_vertex(f, g)) continue;
+        if (one_side_of(vertices, faces, f, in_g, cell) || one_side_of(vertices, faces, g, in_f, cell)) continue;
+        if (edge_crosses(vertices, faces, f, g) || edge_crosses(vertices, faces, g, f)) hits.emplace_back(f, g);
       }
-    });
+    run = end;
   }
   return hits;
 }

@@ -123,3 +123,26 @@ TEST(Geometry, TwoCubesPushedIntoEachOtherIntersect) {
   EXPECT_TRUE(self_intersections(apart.vertices, apart.faces).empty());
   EXPECT_EQ(self_intersections(crossing.vertices, crossing.faces, 1).size(), 1u);
 }
+
+TEST(Geometry, ACrossingPairSpanningManyGridCellsIsReportedOnce) {
+  // Two hundred 1 mm triangles far off make the grid's cells about 3 cm; two 1 m triangles that
+  // cross each other then share dozens of cells along their crossing, and must come out as one pair.
+  Mesh m;
+  const int tiny = 200;
+  m.vertices.resize(3 * tiny + 6, 3);
+  m.faces.resize(tiny + 2, 3);
+  for (int i = 0; i < tiny; ++i) {
+    const Eigen::RowVector3d at(10.0 + 0.01 * i, 0, 0);
+    m.vertices.row(3 * i) = at;
+    m.vertices.row(3 * i + 1) = at + Eigen::RowVector3d(0.001, 0, 0);
+    m.vertices.row(3 * i + 2) = at + Eigen::RowVector3d(0, 0.001, 0);
+    m.faces.row(i) << 3 * i, 3 * i + 1, 3 * i + 2;
+  }
+  m.vertices.bottomRows(6) << 0, 0, 0, 1, 0, 0, 0, 1, 0,                // in the plane z = 0
+      0.25, -0.5, -0.5, 0.25, 1, -0.5, 0.25, 0.25, 0.5;                  // in the plane x = 0.25
+  m.faces.row(tiny) << 3 * tiny, 3 * tiny + 1, 3 * tiny + 2;
+  m.faces.row(tiny + 1) << 3 * tiny + 3, 3 * tiny + 4, 3 * tiny + 5;
+  const auto hits = self_intersections(m.vertices, m.faces);
+  ASSERT_EQ(hits.size(), 1u);
+  EXPECT_EQ(hits[0], std::make_pair(tiny, tiny + 1));
+}

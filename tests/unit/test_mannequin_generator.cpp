@@ -663,10 +663,10 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
   const auto regions = vertex_regions(mq::topology().skin_weights, rig_joint_names());
   // CALIPER_EVERY_SUBJECT=1 checks all 4,552 (about 4 minutes), as docs/mannequin.md reports.
   const bool every_subject = std::getenv("CALIPER_EVERY_SUBJECT") != nullptr;
-  // In the sanitizer build a body costs about 10 s instead of ~100 ms (the ~40-body sample took
-  // 440 s, the sanitizer suite's longest test), so the default run is a thin sample of both
-  // kinds: every 600th subject and every 40th unusual one, about 20 bodies, so memory and UB
-  // errors on the unusual construction paths still show. CALIPER_SANITIZE_FULL=1 restores the Release sample
+  // In the sanitizer build a body costs about 1.7 s instead of ~55 ms (un-inlined Eigen), so the
+  // default run there is a thin sample of both kinds: every 600th subject and every 40th unusual
+  // one, about 20 bodies (35 s), so memory and UB errors on the unusual construction paths still
+  // show. CALIPER_SANITIZE_FULL=1 restores the Release sample
   // (scripts/sanitize.sh then runs this test outside ctest's timeout; docs/reliability.md,
   // "Sanitizers").
 #ifdef CALIPER_SANITIZED

@@ -33,7 +33,7 @@ MeshCheck check_mesh(const Faces& faces, std::int64_t vertex_count);
 
 // Pairs of faces that cross each other (an edge of one passes through the other), ignoring
 // pairs that share a vertex. Stops after `max_pairs`. A uniform grid over face bounding boxes
-// keeps it near-linear: ~20k faces take tens of milliseconds.
+// keeps it near-linear: the 24k-face body takes about 20 ms (BM_SelfIntersections).
 std::vector<std::pair<std::int32_t, std::int32_t>> self_intersections(const Vertices& vertices, const Faces& faces,
                                                                       std::size_t max_pairs = 100);
 
