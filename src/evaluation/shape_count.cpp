@@ -51,7 +51,10 @@ std::shared_ptr<const BodyModel> truncated(const BodyModel& full, int k) {
 std::vector<double> projection_residuals(const Eigen::MatrixXd& centred, const Eigen::MatrixXd& directions,
                                          const std::vector<int>& counts) {
   // Directions are orthogonal with norms = their SDs: an orthonormal basis is each over its norm.
-  const Eigen::MatrixXd basis = directions * directions.colwise().norm().cwiseInverse().asDiagonal();
+  // The norms are evaluated once: left as an expression inside the product, each column's norm
+  // was worked out again for every coefficient (3N times per column).
+  const Eigen::VectorXd inverse_norms = directions.colwise().norm().cwiseInverse().transpose();
+  const Eigen::MatrixXd basis = directions * inverse_norms.asDiagonal();
   const Eigen::MatrixXd coefficients = centred * basis;  // n × K
   std::vector<double> out;
   const double total = centred.squaredNorm();
