@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <iostream>
 #include <regex>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "caliper/body/crease.h"
@@ -199,6 +200,53 @@ void register_creases(CLI::App& model) {
   });
 }
 
+// `caliper model fidelity`: how closely the built-in body, generated for every ANSUR subject of
+// --sex, reproduces their measurements (docs/mannequin.md "Fidelity over the development subset").
+void register_fidelity(CLI::App& model) {
+  auto sex = std::make_shared<std::string>("female");
+  auto ansur = std::make_shared<std::string>();
+  auto every = std::make_shared<int>(1);
+  auto json = std::make_shared<std::string>();
+  CLI::App* cmd = model.add_subcommand(
+      "fidelity", "Fidelity: the built-in body generated for every ANSUR II subject of --sex, measured with Caliper's "
+                  "own definitions against the subject's values: mean error (bias), largest error and bodies out of "
+                  "tolerance (3 mm; 1 % for circumferences) per target, and chest depth");
+  cmd->add_option("--ansur", *ansur, "folder with ANSUR_II_{FEMALE,MALE}*.csv, or one CSV file")->required();
+  cmd->add_option("--sex", *sex, "female or male")->check(CLI::IsMember({"female", "male"}))->capture_default_str();
+  cmd->add_option("--every", *every, "every N-th subject only (1–1000)")->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_option("--json", *json, "also write the table as JSON to this file");
+  cmd->callback([=] {
+    std::vector<AnsurSubject> all = read_ansur_folder(*ansur), picked;
+    for (size_t i = 0; i < all.size(); i += static_cast<size_t>(*every)) picked.push_back(all[i]);
+    const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const auto pop = mannequin::generate_population(picked, parse_sex(*sex), threads, progress_bar("generating bodies"));
+    if (pop.bodies.rows() == 0) throw Error(ErrorKind::Format, "no " + *sex + " subjects in " + *ansur, "ansur");
+    const auto rows = mannequin::survey_fidelity(pop, threads);
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    std::cout << "| measurement | mean error (cm) | largest error | out of tolerance | worst subject |\n|---|---|---|---|---|\n";
+    int missed_targets = 0;
+    for (const auto& r : rows) {
+      std::ostringstream largest;
+      largest << std::fixed << std::setprecision(2) << r.max_abs_error_m * 1000 << " mm";
+      if (r.target.circumference) largest << " (" << std::setprecision(3) << r.max_abs_error_fraction * 100 << " %)";
+      std::cout << "| " << r.target.measurement << (r.is_target ? "" : " (not a target)") << " | " << std::showpos
+                << std::fixed << std::setprecision(2) << r.mean_error_m * 100 << std::noshowpos << " | " << largest.str()
+                << " | " << r.out_of_tolerance << " of " << r.bodies << " | " << r.worst_subject << " |\n";
+      if (r.is_target && r.out_of_tolerance > 0) ++missed_targets;
+      out.push_back({{"measurement", r.target.measurement}, {"ansur_column", r.target.ansur_column}, {"target", r.is_target},
+                     {"mean_error_cm", r.mean_error_m * 100}, {"max_abs_error_mm", r.max_abs_error_m * 1000},
+                     {"max_abs_error_percent", r.max_abs_error_fraction * 100}, {"out_of_tolerance", r.out_of_tolerance},
+                     {"bodies", r.bodies}, {"worst_subject", r.worst_subject}});
+    }
+    std::cout << pop.bodies.rows() << " bodies; " << rows.size() - 1 - static_cast<size_t>(missed_targets) << " of "
+              << rows.size() - 1 << " targets within tolerance on every body\n";
+    if (!json->empty()) {
+      write_file(*json, out.dump(2) + "\n");
+      std::cout << "wrote " << *json << "\n";
+    }
+  });
+}
+
 }  // namespace
 
 namespace {
@@ -352,6 +400,7 @@ void register_model(CLI::App& app) {
   });
   register_choose_k(*cmd);
   register_creases(*cmd);
+  register_fidelity(*cmd);
   auto atlas_name = std::make_shared<std::string>("mannequin");
   auto atlas_sex = std::make_shared<std::string>("female");
   auto atlas_out = std::make_shared<std::string>();

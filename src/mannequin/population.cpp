@@ -313,4 +313,60 @@ std::vector<RegionCreaseSurvey> survey_creases(const GeneratedPopulation& pop, i
   return out;
 }
 
+BodyModel measuring_model(const Vertices& body, Sex sex) {
+  const Topology& topo = topology();
+  BodyModelData d;
+  d.name = std::string("mannequin-") + to_string(sex) + "-measuring";
+  d.sex = sex;
+  d.template_vertices = body;
+  d.faces = topo.faces;
+  d.shape_directions = Eigen::MatrixXd::Zero(3 * body.rows(), 1);
+  d.joint_regressor = topo.joint_regressor;
+  d.joint_names = rig_joint_names();
+  d.parents = rig_parents();
+  d.skin_weights = topo.skin_weights;
+  d.landmarks = topo.landmarks;
+  d.measurements = measurement_definitions();
+  return BodyModel(std::move(d));
+}
+
+std::vector<TargetFidelity> survey_fidelity(const GeneratedPopulation& pop, int threads) {
+  std::vector<TargetFidelity> rows;
+  for (const FidelityTarget& t : fidelity_targets()) rows.push_back({t});
+  rows.push_back({{"chest_depth", "chestdepth", false}, false});
+  const std::vector<MeasurementDefinition> all = measurement_definitions();
+  std::vector<MeasurementDefinition> definitions;
+  for (const TargetFidelity& row : rows) {
+    auto def = std::find_if(all.begin(), all.end(), [&](const auto& d) { return d.name == row.target.measurement; });
+    if (def == all.end()) throw Error(ErrorKind::Format, "no measurement " + row.target.measurement, "measurement");
+    definitions.push_back(*def);
+  }
+  const int n = static_cast<int>(pop.bodies.rows());
+  const Eigen::Index vertex_count = topology().vertex_count;
+  // errors(i, r): body i's measured − ANSUR value of row r, metres.
+  Eigen::MatrixXd errors(n, static_cast<Eigen::Index>(rows.size()));
+  detail::parallel_for(n, threads, [&](int i) {
+    const AnsurSubject& subject = *pop.subjects[static_cast<size_t>(i)];
+    const Eigen::RowVectorXd flat = pop.bodies.row(i);  // bodies is column-major: copy the row out first
+    const Vertices v = Eigen::Map<const Vertices>(flat.data(), vertex_count, 3);
+    const BodyModel model = measuring_model(v, subject.sex);
+    for (size_t r = 0; r < rows.size(); ++r)
+      errors(i, static_cast<Eigen::Index>(r)) = measure(model, definitions[r], v) - subject.values.at(rows[r].target.ansur_column);
+  });
+  for (size_t r = 0; r < rows.size(); ++r) {
+    TargetFidelity& row = rows[r];
+    row.bodies = n;
+    for (int i = 0; i < n; ++i) {
+      const double error = errors(i, static_cast<Eigen::Index>(r));
+      const double want = pop.subjects[static_cast<size_t>(i)]->values.at(row.target.ansur_column);
+      row.mean_error_m += error / n;
+      if (std::abs(error) > row.max_abs_error_m)
+        row.max_abs_error_m = std::abs(error), row.worst_subject = pop.subjects[static_cast<size_t>(i)]->id;
+      row.max_abs_error_fraction = std::max(row.max_abs_error_fraction, std::abs(error) / want);
+      row.out_of_tolerance += row.target.circumference ? std::abs(error) > 0.01 * want : std::abs(error) > 0.003;
+    }
+  }
+  return rows;
+}
+
 }  // namespace caliper::mannequin

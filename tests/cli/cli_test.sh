@@ -231,6 +231,21 @@ says "torso, arms and legs: largest angle" "model creases sums up the smooth reg
 node -e 'const r = JSON.parse(require("fs").readFileSync(process.argv[1])); if (r.length !== 6 || !(r.every(x => x.max_degrees > 0 && x.max_degrees <= 180))) process.exit(1)' "$TMP/creases.json" \
   && passed=$((passed + 1)) || { failed=$((failed + 1)); echo "FAIL: model creases JSON has six regions with angles in (0, 180]"; }
 expect 2 "model creases --every 0" "$CALIPER" model creases --ansur "$TMP" --every 0
+expect 2 "model fidelity needs --ansur" "$CALIPER" model fidelity --sex male
+expect 2 "model fidelity --sex neutral" "$CALIPER" model fidelity --ansur "$TMP" --sex neutral
+expect 4 "model fidelity on a missing folder" "$CALIPER" model fidelity --ansur /nonexistent
+if [ -f "$SRC/../shared/data/ansur2/ANSUR_II_MALE_dev.csv" ]; then
+  expect 0 "model fidelity" "$CALIPER" model fidelity --ansur "$SRC/../shared/data/ansur2" --sex male --every 150 --json "$TMP/fidelity.json"
+  says "| chest_depth (not a target) |" "model fidelity reports chest depth beside the targets"
+  # Stature is imposed exactly; every row has as many bodies as were generated (21 of 3,062).
+  expect 0 "model fidelity JSON: 36 rows, stature exact, chest depth not a target" node -e '
+    const r = JSON.parse(require("fs").readFileSync(process.argv[1]));
+    const by = Object.fromEntries(r.map((x) => [x.measurement, x]));
+    process.exit(r.length === 36 && by.stature.max_abs_error_mm < 1e-3 && by.chest_depth.target === false &&
+      r.every((x) => x.bodies === 21 && Number.isFinite(x.mean_error_cm)) ? 0 : 1);' "$TMP/fidelity.json"
+else
+  echo "skip: model fidelity needs ../shared/data/ansur2 (not found)"
+fi
 expect 0 "model list" "$CALIPER" model list
 says "mannequin-female" "model list shows the built-in body"
 expect 0 "uv atlas" "$CALIPER" model uv-atlas mannequin --sex female --size 256 -o "$TMP/atlas.png"

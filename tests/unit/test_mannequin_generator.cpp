@@ -13,6 +13,7 @@
 #include "caliper/body/mesh.h"
 #include "caliper/body/pose.h"
 #include "caliper/errors.h"
+#include "caliper/mannequin/population.h"
 #include "caliper/io/ansur.h"
 #include "caliper/mannequin/generator.h"
 #include "caliper/measure/geometry.h"
@@ -24,22 +25,7 @@ namespace mq = caliper::mannequin;
 
 namespace {
 
-BodyModel model_for(const Vertices& v, Sex sex) {
-  const auto& topo = mq::topology();
-  BodyModelData d;
-  d.name = "mannequin-test";
-  d.sex = sex;
-  d.template_vertices = v;
-  d.faces = topo.faces;
-  d.shape_directions = Eigen::MatrixXd::Zero(3 * v.rows(), 1);
-  d.joint_regressor = topo.joint_regressor;
-  d.joint_names = rig_joint_names();
-  d.parents = rig_parents();
-  d.skin_weights = topo.skin_weights;
-  d.landmarks = topo.landmarks;
-  d.measurements = mq::measurement_definitions();
-  return BodyModel(std::move(d));
-}
+BodyModel model_for(const Vertices& v, Sex sex) { return mq::measuring_model(v, sex); }
 
 std::vector<std::pair<mq::Dimensions, Sex>> sample_bodies() {
   std::vector<std::pair<mq::Dimensions, Sex>> out;

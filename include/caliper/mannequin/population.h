@@ -11,6 +11,7 @@
 #include "caliper/body/body_model.h"
 #include "caliper/body/crease.h"
 #include "caliper/io/ansur.h"
+#include "caliper/mannequin/generator.h"
 
 namespace caliper::mannequin {
 
@@ -90,6 +91,27 @@ struct RegionCreaseSurvey {
   double max_p99_degrees = 0;  // the largest of the bodies' 99th percentiles
 };
 std::vector<RegionCreaseSurvey> survey_creases(const GeneratedPopulation& population, int threads);
+
+// A model of the built-in body's topology with `body` as its template and no shape directions:
+// enough to measure that one body with the built-in measurement definitions.
+BodyModel measuring_model(const Vertices& body, Sex sex);
+
+// How closely a generated population reproduces its subjects' ANSUR values: per fidelity target
+// (fidelity_targets()), plus chest depth (not a target: the chest section trades it, see
+// generator.cpp), the signed error's mean (the bias) and largest size over the bodies, and how
+// many bodies miss the test's tolerance (3 mm; 1 % for circumferences). Errors in metres;
+// circumferences' also as fractions of the ANSUR value. Runs on `threads` workers.
+struct TargetFidelity {
+  FidelityTarget target;
+  bool is_target = true;               // false: chest depth, reported only
+  double mean_error_m = 0;             // measured − ANSUR, mean over bodies
+  double max_abs_error_m = 0;
+  double max_abs_error_fraction = 0;   // |measured − ANSUR| / ANSUR, largest
+  std::string worst_subject;           // ANSUR subject id of the largest error
+  int out_of_tolerance = 0;
+  int bodies = 0;
+};
+std::vector<TargetFidelity> survey_fidelity(const GeneratedPopulation& population, int threads);
 
 // The model of a generated population: PCA (K = options.components), volume → weight, real →
 // virtual maps. `population.bodies` is centred in place. Throws Error(Format) if it has fewer
