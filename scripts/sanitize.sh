@@ -29,7 +29,7 @@ cmake --build build-asan -j "$(nproc)"
 
 source scripts/sanitizer-env.sh
 # The default run thins the slowest test's sample (MannequinGenerator.ReproducesAnsurSubjects,
-# ~20 bodies instead of ~750: a body costs ~10 s under the sanitizers). CALIPER_SANITIZE_FULL=1
+# ~20 bodies instead of ~750: a body costs ~1.7 s under the sanitizers). CALIPER_SANITIZE_FULL=1
 # restores the Release sample; that test then needs about two hours at -O1 (estimated), so
 # it runs on its own, outside ctest's per-test timeout. The three browser tests of the pages
 # run in the Release suite only: what they drive is JavaScript, and the server's side of each is
