@@ -200,6 +200,25 @@ BodyModel build_mannequin_model(const std::vector<AnsurSubject>& all, Sex sex, c
   return model_from_population(pop, sex, options, report);
 }
 
+namespace {
+// A model's data with the built-in body's topology, rig, landmarks and measurements around
+// `body`; the caller adds the name, shape directions and UVs.
+BodyModelData topology_model_data(const Vertices& body, Sex sex) {
+  const Topology& topo = topology();
+  BodyModelData d;
+  d.sex = sex;
+  d.template_vertices = body;
+  d.faces = topo.faces;
+  d.joint_regressor = topo.joint_regressor;
+  d.joint_names = rig_joint_names();
+  d.parents = rig_parents();
+  d.skin_weights = topo.skin_weights;
+  d.landmarks = topo.landmarks;
+  d.measurements = measurement_definitions();
+  return d;
+}
+}  // namespace
+
 BodyModel model_from_population(GeneratedPopulation& pop, Sex sex, const PopulationOptions& options,
                                 PopulationReport* report) {
   const int k = options.components;
@@ -216,19 +235,10 @@ BodyModel model_from_population(GeneratedPopulation& pop, Sex sex, const Populat
   const PrincipalComponents pca = principal_components(bodies, k, options.seed);
   const Eigen::RowVectorXd& mean = pca.mean;
 
-  BodyModelData d;
+  BodyModelData d = topology_model_data(Eigen::Map<const Vertices>(mean.data(), topo.vertex_count, 3), sex);
   d.name = std::string("mannequin-") + to_string(sex);
-  d.sex = sex;
-  d.template_vertices = Eigen::Map<const Vertices>(mean.data(), topo.vertex_count, 3);
-  d.faces = topo.faces;
   d.shape_directions = pca.directions;
   const std::vector<double>& explained = pca.explained;
-  d.joint_regressor = topo.joint_regressor;
-  d.joint_names = rig_joint_names();
-  d.parents = rig_parents();
-  d.skin_weights = topo.skin_weights;
-  d.landmarks = topo.landmarks;
-  d.measurements = measurement_definitions();
   {
     UvLayout uv = uv_layout(d.template_vertices);  // unwrapped from this model's mean body
     d.uv_coordinates = std::move(uv.coordinates);
@@ -314,19 +324,9 @@ std::vector<RegionCreaseSurvey> survey_creases(const GeneratedPopulation& pop, i
 }
 
 BodyModel measuring_model(const Vertices& body, Sex sex) {
-  const Topology& topo = topology();
-  BodyModelData d;
+  BodyModelData d = topology_model_data(body, sex);
   d.name = std::string("mannequin-") + to_string(sex) + "-measuring";
-  d.sex = sex;
-  d.template_vertices = body;
-  d.faces = topo.faces;
   d.shape_directions = Eigen::MatrixXd::Zero(3 * body.rows(), 1);
-  d.joint_regressor = topo.joint_regressor;
-  d.joint_names = rig_joint_names();
-  d.parents = rig_parents();
-  d.skin_weights = topo.skin_weights;
-  d.landmarks = topo.landmarks;
-  d.measurements = measurement_definitions();
   return BodyModel(std::move(d));
 }
 
