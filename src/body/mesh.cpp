@@ -106,10 +106,6 @@ bool segment_hits_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, c
   return t > 0 && t < 1;
 }
 
-}  // namespace
-
-namespace {
-
 // A face's box (metres, and in grid cells) and its plane (unnormalised normal n, offset n·a).
 struct FaceInGrid {
   Eigen::Vector3d box_lo, box_hi;
