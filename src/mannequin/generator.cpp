@@ -103,6 +103,7 @@ constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
 constexpr double kJawLift = 0.15;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
+constexpr double kFaceDensity = 1.5;  // extra column density across the face (respace_torso_columns)
 
 // Leg stations (below the theta ring r0) and intervals.
 enum LegKey { kLegTop, kThigh, kLowerThigh, kKnee, kCalf, kAnkle, kMalleolus, kLegKeyCount };
@@ -912,18 +913,20 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.cz = head_cz;
     // The head's centre sits forward of the neck's: the back radius grows by that offset so the back
     // of the neck stays straight (a slight hollow only) up to the skull.
-    r.a = std::max(0.78 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = 0.78 * hl2; r.p = 2.2;
+    r.a = std::max(0.78 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = 0.84 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
     // The jaw narrows toward the chin: a U from the front, not a box. By a half near the midline
     // it came to a point; a man's chin is broader and squarer than a woman's.
     r.front_taper = std::lerp(0.30, 0.38, fem);
     K[kChin] = r;
     // The back of the neck runs up to the occiput; the skull bulges out only above it.
+    // The lower face stands nearly upright under the glabella, as in a real profile (at 0.84 and
+    // 0.78 of the half-length the face sloped back to a receding chin).
     r.y = y_mouth; r.a = std::max(0.8 * hb2, r.a + 0.003 * hs);  // never narrower than the jaw below
-    r.df = 0.84 * hl2;
+    r.df = 0.90 * hl2;
     r.db = 0.35 * (K[kNeck].db + (head_cz - K[kNeck].cz)) + 0.65 * 0.82 * hl2;
     r.chin = 0.004 * hs;
-    r.front_taper = 0.32;
+    r.front_taper = 0.22;
     K[kMouth] = r;
     TorsoRing g;
     g.y = y_g; g.cz = head_cz;
@@ -931,7 +934,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     K[kGlabella] = g;
     // At the nose the skull's back is nearly as full as at the glabella (the occiput rounds off
     // below it), or the back of the head shows a groove under the glabella ring.
-    r.y = y_nose; r.a = 0.92 * hb2; r.df = 0.86 * hl2; r.db = 0.93 * g.db; r.p = 0.5 * (2.2 + g.p);
+    r.y = y_nose; r.a = 0.92 * hb2; r.df = 0.91 * hl2; r.db = 0.93 * g.db; r.p = 0.5 * (2.2 + g.p);
     r.chin = 0; r.nose = 0;  // the nose itself: sculpt()
     r.front_taper = 0.15;
     K[kNose] = r;
@@ -2198,6 +2201,12 @@ void respace_torso_columns(Builder& B, const std::set<int>& pinned) {
     // The head (above the cervicale ring) all round: its boxiest rings would leave the ears
     // between columns.
     const bool head = k > torso_key_ring(kCervicale);
+    // The face gets denser columns than the back and sides of the head: its features (eyes, nose
+    // wings, lips) are 1–3 cm wide, and at the head's even 9 mm spacing an eye had three columns.
+    // Edges in front cost more, fading from the glabella ring up the dome (whose forehead
+    // carries no feature) so the columns do not shear against the face's.
+    const int kg = torso_key_ring(kGlabella);
+    const double face_weight = !head ? 0.0 : kFaceDensity * std::clamp(1.0 - double(k - kg) / (kDomeRings / 2), 0.0, 1.0);
     const std::vector<std::pair<int, int>> spans = head ? std::vector<std::pair<int, int>>{{0, 16}, {16, 32}}
                                                         : std::vector<std::pair<int, int>>{{0, 6}, {26, 32}};
     for (const auto& [j0, j1] : spans) {
@@ -2212,6 +2221,8 @@ void respace_torso_columns(Builder& B, const std::set<int>& pinned) {
             std::vector<Vec3> q;
             for (int j = a; j <= b; ++j) q.push_back(v[static_cast<size_t>(R[static_cast<size_t>(j)])]);
             const double scale = 0.25 * (q.back() - q.front()).norm();
+            double half = 0;  // the ring's half-breadth on this span
+            for (const Vec3& p : q) half = std::max(half, std::abs(p.x()));
             std::vector<double> cost(q.size(), 0.0);
             for (size_t i = 1; i < q.size(); ++i) {
               double turn = 0;
@@ -2220,7 +2231,8 @@ void respace_torso_columns(Builder& B, const std::set<int>& pinned) {
                 const Vec3 u = (q[e] - q[e - 1]).normalized(), w = (q[e + 1] - q[e]).normalized();
                 turn += 0.5 * std::acos(std::clamp(u.dot(w), -1.0, 1.0));
               }
-              cost[i] = cost[i - 1] + (q[i] - q[i - 1]).norm() + scale * turn;
+              const double face = j0 == 0 ? 1 - smoothstep(0.55, 0.85, 0.5 * std::abs(q[i].x() + q[i - 1].x()) / std::max(half, 1e-9)) : 0.0;
+              cost[i] = cost[i - 1] + (q[i] - q[i - 1]).norm() * (1 + face_weight * face) + scale * turn;
             }
             size_t e = 1;
             for (int j = a + 1; j < b; ++j) {
@@ -2290,7 +2302,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         double f = 0;
         // Brow ridge, under the glabella ring, ending level at it (that ring carries the head's
         // measures and does not move: a ridge that stops short of it shades a line across the forehead).
-        f += 0.30 * blob(X - 2.9, Y + 1.3, 2.8, 1.3);
+        f += 0.42 * blob(X - 2.9, Y + 1.3, 2.8, 1.3);
         // Eye socket: deep under the brow, shallow under the eye, so the lower lid runs on into
         // the cheek (a socket as deep below as above left a dark band under each eye and a
         // bright one across the cheekbones: a face in stripes).
@@ -2299,30 +2311,39 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           f -= 0.85 * blob(X - 3.1, dy, 1.6, dy < 0 ? 0.9 : 1.35);
         }
         f += 0.42 * blob(X - 3.1, Y + 2.7, 1.2, 0.9);    // the eye (lids) inside it
+        f -= 0.25 * blob(X - 3.1, Y + 2.75, 1.0, 0.55);    // the eye's opening between the lids
         f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
         f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
         // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
         {
-          const double y_top = -1.4, y_tip = -5.4, y_base = -6.6, height = 2.3;
+          const double y_top = -1.4, y_tip = -5.4, y_base = -6.7, height = 2.7;
           double prof = 0;
           if (Y <= y_top && Y >= y_tip) prof = std::pow((y_top - Y) / (y_top - y_tip), 1.3);
           else if (Y < y_tip && Y > y_base) prof = 1 - smoothstep(0.0, 1.0, (y_tip - Y) / (y_tip - y_base));
-          const double half = std::lerp(0.9, 1.5, std::clamp((y_top - Y) / (y_top - y_tip), 0.0, 1.0));
+          const double half = std::lerp(1.1, 2.0, std::clamp((y_top - Y) / (y_top - y_tip), 0.0, 1.0));
           f += height * prof * blob(X, 0, half, 1);
-          f += 0.45 * blob(X - 1.5, Y + 5.9, 1.0, 0.8);  // the nostrils' wings
+          {  // the nostrils' wings, easing down into the upper lip (a sharp lower edge shaded a moustache)
+            const double dy = Y + 5.9;
+            f += 0.60 * blob(X - 1.6, dy, 1.1, dy < 0 ? 1.6 : 0.9);
+          }
         }
         // No hollow under the cheekbone: the head rings' own curve carries the face round to the
         // ears, and a relief falling back from the midline had to rise again where the front
         // weight ends, a trough that made the face a skull's. No cheekbone ridge either: its
         // lit top and shaded underside drew one more band across the face; the cheek is one
         // round fullness.
-        f += 0.40 * blob(X - 3.2, Y + 5.8, 2.0, 2.0);    // the cheek
-        f += 0.30 * blob(X, Y + 7.75, 1.9, 0.75);        // upper lip
-        f += 0.28 * blob(X, Y + 9.1, 1.8, 0.7);          // lower lip
+        f += 0.40 * blob(X - 3.2, Y + 6.0, 2.0, 2.6);    // the cheek
+        f += 0.40 * blob(X - 4.8, Y + 7.2, 2.4, 3.0);    // the cheek's side over the jaw (no gaunt hollow)
+        // The muzzle: the teeth's arch carries the mouth forward as a whole, the cheeks round
+        // into it (without it the lips sat on a flat plate and the nose's shadow ran out
+        // sideways as a grin).
+        f += 0.45 * blob(X, Y + 8.4, 3.6, 3.0);
+        f += 0.35 * blob(X, Y + 7.75, 2.1, 0.85);        // upper lip
+        f += 0.32 * blob(X, Y + 9.1, 1.9, 0.8);          // lower lip
         f -= 0.30 * blob(X, Y + 8.45, 2.1, 0.35);        // mouth line, no wider than the lips
         f -= 0.08 * blob(X - 2.3, Y + 8.5, 0.8, 0.8);    // mouth corners
         f -= 0.28 * blob(X, Y + 10.3, 2.2, 0.7);         // labiomental fold
-        f += 0.30 * blob(X, Y + 11.9, 2.0, 1.2);         // chin
+        f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
         // The jaw line: the mandible's lower border from the chin back to its angle, the soft
         // floor of the mouth under it.
         {
@@ -2331,11 +2352,15 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           f += 0.12 * along * blob(Y - (yj + 0.4), 0, 0.8, 1);
           f -= 0.20 * along * blob(Y - (yj - 0.9), 0, 0.9, 1);
         }
-        h += front * f * hu;
+        // Faded out toward the head's sides by the point's place across its ring, not by its
+        // column: the face's columns are respaced (respace_torso_columns), so a column's index
+        // no longer says where it lies.
+        const double face_front = j <= kTorsoN / 4 ? 1 - smoothstep(0.78, 0.98, x / P.torso[static_cast<size_t>(k)].a) : 0.0;
+        h += face_front * f * hu;
         // Ears: a flattened shell on each side, behind the head's mid-depth.
         const double Z = (p.z() - head_cz) / hu;
         const double side = smoothstep(0.55, 0.85, s);
-        const double ear = 0.85 * blob(Y + 4.3, Z + 1.1, 2.8, 1.6) - 0.40 * blob(Y + 4.6, Z + 0.7, 1.3, 0.8);
+        const double ear = 1.2 * blob(Y + 4.3, Z + 1.1, 2.8, 1.7) - 0.6 * blob(Y + 4.6, Z + 0.7, 1.3, 0.8);
         h += side * ear * hu;
       }
       // Torso, front.
@@ -2469,6 +2494,36 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       D[static_cast<size_t>(id)] = h;
     }
 
+  // -- Arms (left arm, T-posed along +X): the deltoid's cap. Over the shoulder's outside the
+  // arm's rings ran straight on from the torso's slope, a doll's square shoulder. The muscle
+  // rounds the top, front and back of the upper arm, not its underside: it rises from the
+  // acromion (a landmark, which stays), is fullest a quarter to a third of the way to the biceps
+  // ring and is gone before that ring (whose girth is a target). Steeper, it drew a line across
+  // the shoulder's top.
+  const Grid Ar{&B.arm[0]};
+  {
+    const double x_acr = v0[static_cast<size_t>(B.landmarks.at("acromion_left"))].x();
+    const double x_bi = v0[static_cast<size_t>(B.landmarks.at("biceps_left"))].x();
+    const double len = x_bi - x_acr;
+    const double amp = std::lerp(0.8, 0.6, fem) * cm;
+    for (int r = 1; r < Ar.rings(); ++r) {
+      Vec3 centre = Vec3::Zero();
+      for (int q = 0; q < kArmN; ++q) centre += v0[static_cast<size_t>(Ar.id(r, q))];
+      centre /= kArmN;
+      if (centre.x() > x_bi) break;
+      for (int q = 0; q < kArmN; ++q) {
+        const int id = Ar.id(r, q);
+        const Vec3& p = v0[static_cast<size_t>(id)];
+        Vec3 n(0, p.y() - centre.y(), p.z() - centre.z());
+        if (n.norm() < 1e-12) continue;
+        n.normalize();
+        N[static_cast<size_t>(id)] = n;
+        const double along = window(p.x(), x_acr, x_acr + 0.25 * len, x_acr + 0.35 * len, x_acr + 0.85 * len);
+        D[static_cast<size_t>(id)] = amp * along * smoothstep(-0.4, 0.5, n.y());
+      }
+    }
+  }
+
   // -- Guards: sections that carry targets move only inward; landmarks stay.
   // Sections with a breadth or depth: grooves may cross them between the extreme points.
   // Girth-only sections (neck, head, leg girths), whose every ring vertex is on the hull: none.
@@ -2501,6 +2556,13 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       if (id < 0) continue;  // a toe's hole
       v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
       v[static_cast<size_t>(B.leg[1][static_cast<size_t>(r)][static_cast<size_t>(k)])] = mirror(v[static_cast<size_t>(id)]);
+    }
+  for (int r = 1; r < Ar.rings(); ++r)
+    for (int q = 0; q < kArmN; ++q) {
+      const int id = Ar.id(r, q);
+      if (id < 0 || D[static_cast<size_t>(id)] == 0) continue;  // the thumb's hole; or unmoved
+      v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
+      v[static_cast<size_t>(B.arm[1][static_cast<size_t>(r)][static_cast<size_t>(q)])] = mirror(v[static_cast<size_t>(id)]);
     }
 }
 
