@@ -96,7 +96,11 @@ function rotation3(x, y, z) {
 
 // Where the eyes are in the rest pose relative to the head joint (rest frame, metres), from the
 // avatar's own surface: eye level 7% of the stature below the top of the head (ANSUR: the
-// vertex-to-pupil height of adults is 11–13 cm), 3 cm behind the front of the face at that level.
+// vertex-to-pupil height of adults is 11–13 cm); in depth, the eyeball's centre of rotation,
+// about 13 mm behind the front of the eye (the eye is about 24 mm long), the front of the eye
+// being the most forward surface 2–4.5 cm to either side of the midline at that level. Not the
+// face's midline: the nose stands in front of the eyes by an amount that differs from face to
+// face (on the built-in body it moved the eyes 4 mm when the nose was redrawn).
 // vertices: flat x,y,z of the rest mesh; headJoint: [x,y,z].
 export function eyeOffsetFromBody(vertices, headJoint) {
   let top = -Infinity, bottom = Infinity;
@@ -104,10 +108,11 @@ export function eyeOffsetFromBody(vertices, headJoint) {
   const eyeY = top - 0.07 * (top - bottom);
   let front = -Infinity;
   for (let i = 0; i < vertices.length; i += 3) {
-    if (Math.abs(vertices[i] - headJoint[0]) < 0.04 && Math.abs(vertices[i + 1] - eyeY) < 0.02) front = Math.max(front, vertices[i + 2]);
+    const across = Math.abs(vertices[i] - headJoint[0]);
+    if (across > 0.02 && across < 0.045 && Math.abs(vertices[i + 1] - eyeY) < 0.01) front = Math.max(front, vertices[i + 2]);
   }
   if (!Number.isFinite(front)) front = headJoint[2] + 0.1;
-  return [0, eyeY - headJoint[1], front - 0.03 - headJoint[2]];
+  return [0, eyeY - headJoint[1], front - 0.013 - headJoint[2]];
 }
 
 // A pose as the page hands it over: position and orientation, reused every frame.
