@@ -32,12 +32,14 @@ cam.rotation_euler = (math.radians(88), 0, math.radians(16))
 cam.data.lens = 62
 scene.camera = cam
 light = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-light.data.energy = 3
+light.data.energy = 4
 light.rotation_euler = (math.radians(45), 0, math.radians(30))
 scene.collection.objects.link(light)
 world = bpy.data.worlds.new("w"); world.color = (0.9, 0.9, 0.9); scene.world = world
 world.use_nodes = True
 world.node_tree.nodes["Background"].inputs[0].default_value = (0.85, 0.85, 0.85, 1)
+# A dimmer sky: at full strength it lit the body evenly from every side and washed its shape out.
+world.node_tree.nodes["Background"].inputs[1].default_value = 0.35
 scene.render.engine = engine
 if engine == "CYCLES":
     scene.cycles.samples = 16
