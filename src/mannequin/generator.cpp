@@ -2550,20 +2550,18 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       if (j == 0 || j == kTorsoN / 2) v[static_cast<size_t>(id)].x() = 0;
       else v[static_cast<size_t>(T.id(k, kTorsoN - j))] = mirror(v[static_cast<size_t>(id)]);
     }
-  for (int r = 1; r < L.rings(); ++r)
-    for (int k = 0; k < kLegN; ++k) {
-      const int id = L.id(r, k);
-      if (id < 0) continue;  // a toe's hole
-      v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
-      v[static_cast<size_t>(B.leg[1][static_cast<size_t>(r)][static_cast<size_t>(k)])] = mirror(v[static_cast<size_t>(id)]);
-    }
-  for (int r = 1; r < Ar.rings(); ++r)
-    for (int q = 0; q < kArmN; ++q) {
-      const int id = Ar.id(r, q);
-      if (id < 0 || D[static_cast<size_t>(id)] == 0) continue;  // the thumb's hole; or unmoved
-      v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
-      v[static_cast<size_t>(B.arm[1][static_cast<size_t>(r)][static_cast<size_t>(q)])] = mirror(v[static_cast<size_t>(id)]);
-    }
+  // A limb: its left side moved, the right side its mirror (ids −1: a toe's or the thumb's hole).
+  auto apply_limb = [&](const Grid& left, const std::vector<std::vector<int>>& right) {
+    for (int r = 1; r < left.rings(); ++r)
+      for (int c = 0; c < left.columns(); ++c) {
+        const int id = left.id(r, c);
+        if (id < 0) continue;
+        v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
+        v[static_cast<size_t>(right[static_cast<size_t>(r)][static_cast<size_t>(c)])] = mirror(v[static_cast<size_t>(id)]);
+      }
+  };
+  apply_limb(L, B.leg[1]);
+  apply_limb(Ar, B.arm[1]);
 }
 
 }  // namespace
