@@ -51,6 +51,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -2027,13 +2028,40 @@ Dimensions complete_dimensions(const Dimensions& partial, Sex sex) {
 // shrinking the body. Only vertices that carry no landmark and lie on no imposed section move, so
 // every fidelity target is kept. The left side is smoothed and mirrored, so bodies stay exactly
 // symmetric.
+//
+// The fillet still turns inward where the arm's underside meets the torso's side in front of and
+// behind the armpit: a notch in every three-quarter view, which the arm lowered into the A-pose
+// folds into a crease. A real armpit is closed there by two webs, the anterior fold (pectoralis
+// major's border) and the posterior fold (latissimus dorsi, teres major). After the smoothing,
+// the same shoulder vertices are moved by mean curvature flow run one way (fair()'s second pass): a
+// concave vertex moves outward along its normal by the normal part of the umbrella operator, a
+// convex one stays, so valleys fill and ridges keep their shape.
 struct Fairing {
   std::vector<int> left, right;              // free vertices; right[i] mirrors left[i]
   std::vector<Vec3> freedom;                 // per axis, 1 where left[i] may move, 0 where not
   std::vector<double> weight;                // share of each smoothing step taken
   std::vector<char> hole_bottom;             // 1: on the armpit hole's bottom edge (see fair())
+  std::vector<double> fill;                  // share of each fold-filling step taken (0: none)
   std::vector<std::vector<int>> neighbours;  // one-ring of left[i]
+  std::vector<std::vector<std::array<int, 3>>> faces;  // the faces round left[i], outward
 };
+constexpr int kFoldFillIterations = 40, kFoldFillFade = 6;
+
+// Each vertex's distance in edges from the nearest of `from[i]` where `among[i]` holds
+// (breadth-first; a large number where none is reachable).
+std::vector<int> edge_hops(const std::vector<std::set<int>>& ring, const std::vector<int>& from, const std::vector<char>& among) {
+  std::vector<int> hops(ring.size(), std::numeric_limits<int>::max() / 2);
+  std::vector<int> queue;
+  for (size_t i = 0; i < from.size(); ++i)
+    if (among[i]) { hops[static_cast<size_t>(from[i])] = 0; queue.push_back(from[i]); }
+  for (size_t at = 0; at < queue.size(); ++at)
+    for (int n : ring[static_cast<size_t>(queue[at])])
+      if (hops[static_cast<size_t>(n)] > hops[static_cast<size_t>(queue[at])] + 1) {
+        hops[static_cast<size_t>(n)] = hops[static_cast<size_t>(queue[at])] + 1;
+        queue.push_back(n);
+      }
+  return hops;
+}
 
 Fairing make_fairing() {
   Builder B;
@@ -2044,18 +2072,22 @@ Fairing make_fairing() {
   for (const auto& [name, id] : B.landmarks) pinned.insert(id);
   Fairing f;
   const Vec3 free(1, 1, 1), level(1, 0, 1);  // level: keeps its ring's height
-  auto take = [&](int l, int r, const Vec3& freedom, double w = 1.0, bool hole_bottom = false) {
+  auto take = [&](int l, int r, const Vec3& freedom, double w = 1.0, bool hole_bottom = false, double fill = 1.0) {
     if (l < 0 || pinned.count(l) || pinned.count(r)) return;
     f.left.push_back(l);
     f.right.push_back(r);
     f.freedom.push_back(freedom);
     f.weight.push_back(w);
     f.hole_bottom.push_back(hole_bottom);
+    f.fill.push_back(fill);
   };
   const int kax = torso_key_ring(kAxilla);
   // From the hole's bottom edge up: left out, its corners stayed sharp, a notch in front of and
   // behind the armpit. That edge keeps its height (free to rise, it folded over the ring under
-  // it where the armpit sits close above the chest).
+  // it where the armpit sits close above the chest). Its folds are not filled (filled, the edge
+  // moved out past the chest's breadth on bodies whose chest lies just under it, and folded
+  // against the arm's first ring), and the filling fades in over the kFoldFillFade edges above
+  // it: filled in full next to it, the surface stood out over the edge in a fold.
   for (int k = kax; k <= torso_key_ring(kShoulder2); ++k)
     for (int j = kHoleJ0 - kFairColumns; j <= kHoleJ1 + kFairColumns; ++j)
       take(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)],
@@ -2075,14 +2107,23 @@ Fairing make_fairing() {
   // other on heavy bodies. Not the inner thigh beside the crotch bridge, whose fold between the
   // legs would sharpen.
   std::set<int> seen(f.left.begin(), f.left.end());
-  auto take_once = [&](int l, int r) { if (seen.insert(l).second) take(l, r, level); };
+  auto take_once = [&](int l, int r) { if (seen.insert(l).second) take(l, r, level, 1.0, false, 0.0); };
   for (int k = 0; k < kFairGroinTorsoRings; ++k)
     for (int j = 1; j < kTorsoN / 2; ++j)
       take_once(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)]);
   for (int r = 0; r < kFairGroinLegRings; ++r)
     for (int q = 1; q < kLegBridgeFirst - 1; ++q) take_once(B.leg[0][static_cast<size_t>(r)][static_cast<size_t>(q)], B.leg[1][static_cast<size_t>(r)][static_cast<size_t>(q)]);
   const std::vector<std::set<int>> ring = one_rings(B);
-  for (int id : f.left) f.neighbours.emplace_back(ring[static_cast<size_t>(id)].begin(), ring[static_cast<size_t>(id)].end());
+  const std::vector<int> hops = edge_hops(ring, f.left, f.hole_bottom);
+  for (size_t i = 0; i < f.left.size(); ++i)
+    if (f.fill[i] > 0) f.fill[i] = std::min(1.0, hops[static_cast<size_t>(f.left[i])] / static_cast<double>(kFoldFillFade));
+  std::vector<std::vector<std::array<int, 3>>> around(B.v.size());
+  for (const auto& t : B.faces)
+    for (int c : t) around[static_cast<size_t>(c)].push_back(t);
+  for (int id : f.left) {
+    f.neighbours.emplace_back(ring[static_cast<size_t>(id)].begin(), ring[static_cast<size_t>(id)].end());
+    f.faces.push_back(around[static_cast<size_t>(id)]);
+  }
   return f;
 }
 
@@ -2095,20 +2136,47 @@ double hole_bottom_share(const BodyPlan& P, const Dims& d) {
   return smoothstep(1.5 * 0.01 * sc, 3.0 * 0.01 * sc, chest_gap);
 }
 
-void fair(std::vector<Vec3>& v, double hole_bottom_share) {
-  static const Fairing f = make_fairing();
+// The umbrella operator: from a vertex to the mean of its one-ring.
+Vec3 umbrella(const Fairing& f, size_t i, const std::vector<Vec3>& v) {
+  Vec3 mean = Vec3::Zero();
+  for (int n : f.neighbours[i]) mean += v[static_cast<size_t>(n)];
+  return mean / static_cast<double>(f.neighbours[i].size()) - v[static_cast<size_t>(f.left[i])];
+}
+
+// The outward unit normal at a vertex: its faces' normals weighted by their areas.
+Vec3 vertex_normal(const Fairing& f, size_t i, const std::vector<Vec3>& v) {
+  Vec3 n = Vec3::Zero();
+  for (const auto& t : f.faces[i]) {
+    const Vec3& a = v[static_cast<size_t>(t[0])];
+    n += (v[static_cast<size_t>(t[1])] - a).cross(v[static_cast<size_t>(t[2])] - a);
+  }
+  return n.normalized();
+}
+
+// Runs `iterations` steps of `step_of(it, i)` for every free vertex at once, each masked by the
+// vertex's freedom and scaled by its weight.
+template <class StepOf>
+void move_free(const Fairing& f, std::vector<Vec3>& v, double hole_bottom_share, int iterations, StepOf step_of) {
   std::vector<Vec3> step(f.left.size());
-  for (int it = 0; it < 2 * kFairIterations; ++it) {
-    const double factor = it % 2 == 0 ? 0.5 : -0.53;  // λ, μ (|μ| > λ: no shrinking)
-    for (size_t i = 0; i < f.left.size(); ++i) {
-      Vec3 mean = Vec3::Zero();
-      for (int n : f.neighbours[i]) mean += v[static_cast<size_t>(n)];
-      step[i] = factor * (mean / static_cast<double>(f.neighbours[i].size()) - v[static_cast<size_t>(f.left[i])]);
-      step[i] = step[i].cwiseProduct(f.freedom[i]);
-    }
+  for (int it = 0; it < iterations; ++it) {
+    for (size_t i = 0; i < f.left.size(); ++i) step[i] = step_of(it, i).cwiseProduct(f.freedom[i]);
     for (size_t i = 0; i < f.left.size(); ++i)
       v[static_cast<size_t>(f.left[i])] += f.weight[i] * (f.hole_bottom[i] ? hole_bottom_share : 1.0) * step[i];
   }
+}
+
+void fair(std::vector<Vec3>& v, double hole_bottom_share) {
+  static const Fairing f = make_fairing();
+  move_free(f, v, hole_bottom_share, 2 * kFairIterations, [&](int it, size_t i) -> Vec3 {
+    const double factor = it % 2 == 0 ? 0.5 : -0.53;  // λ, μ (|μ| > λ: no shrinking)
+    return factor * umbrella(f, i, v);
+  });
+  // The folds filled: outward only, half the normal part of the umbrella operator per step.
+  move_free(f, v, hole_bottom_share, kFoldFillIterations, [&](int, size_t i) -> Vec3 {
+    if (f.fill[i] == 0) return Vec3::Zero();
+    const Vec3 n = vertex_normal(f, i, v);
+    return 0.5 * f.fill[i] * std::max(0.0, umbrella(f, i, v).dot(n)) * n;
+  });
   for (size_t i = 0; i < f.left.size(); ++i) v[static_cast<size_t>(f.right[i])] = mirror(v[static_cast<size_t>(f.left[i])]);
 }
 

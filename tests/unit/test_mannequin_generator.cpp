@@ -474,8 +474,9 @@ TEST(MannequinGenerator, PosesKeepTheBodysVolume) {
 
 // The shoulders bend without folding the skin through itself: arms lowered to an A-pose and
 // raised 60° above the horizontal leave no face crossing another, and no edge of the arms (the
-// shoulder and armpit included) folds by more than 120°. With the chains' weights alone (before
-// smooth_shoulder_weights) the typical man's raised armpit folds by 180° and crosses itself.
+// shoulder and armpit included) folds by more than 120° (70° in the A-pose). With the chains'
+// weights alone (before smooth_shoulder_weights) the typical man's raised armpit folds by 180° and
+// crosses itself; before the armpit's folds were filled (fair()) his A-posed arm folded by 82°.
 TEST(MannequinGenerator, ShouldersBendWithoutFolding) {
   for (Sex sex : {Sex::Female, Sex::Male}) {
     const Vertices v = mq::generate(mq::typical_dimensions(sex), sex);
@@ -486,7 +487,7 @@ TEST(MannequinGenerator, ShouldersBendWithoutFolding) {
       EXPECT_TRUE(self_intersections(posed, mq::topology().faces, 1).empty()) << to_string(sex) << " " << degrees << "°";
       for (const auto& r : crease_report(posed, mq::topology().faces, regions)) {
         if (r.region == BodyRegion::Arms) {
-          EXPECT_LT(r.max_degrees, 120) << to_string(sex) << " " << degrees << "°";
+          EXPECT_LT(r.max_degrees, degrees > 0 ? 70 : 120) << to_string(sex) << " " << degrees << "°";
         }
       }
     }
@@ -693,7 +694,7 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
       // docs/mannequin.md "Creases"): a change that folds the surface more fails here.
       for (const auto& r : crease_report(v, mq::topology().faces, regions)) {
         if (is_feature_region(r.region)) continue;
-        const double p99_bound = r.region == BodyRegion::Legs ? 52 : r.region == BodyRegion::Arms ? 42 : 50;
+        const double p99_bound = r.region == BodyRegion::Legs ? 52 : r.region == BodyRegion::Arms ? 38 : 50;
         EXPECT_LE(r.p99_degrees, p99_bound) << "subject " << s.id << ", " << to_string(r.region);
         EXPECT_LE(r.max_degrees, 130) << "subject " << s.id << ", " << to_string(r.region) << " edge " << r.worst.a << "-" << r.worst.b;
       }
