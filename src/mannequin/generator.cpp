@@ -97,8 +97,9 @@ enum TorsoKey {
 };
 // kArmpit: the axilla landmark's ring, just under the armpit hole whose bottom is kAxilla.
 // The face (chin → mouth → nose → glabella) has rings about 5 mm apart, so the relief (sculpt())
-// can draw lips, nose and eye sockets.
-constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 3, 8, 8, 10};
+// can draw lips, nose and eye sockets; six rings between the cervicale and the chin let the
+// fairing round the neck and the jaw's border under the chin (make_fairing()).
+constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 6, 8, 8, 10};
 // The jaw's lower border rises from the chin to the angle of the jaw: the chin ring's sides are
 // lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
@@ -2046,6 +2047,7 @@ struct Fairing {
   std::vector<std::vector<std::array<int, 3>>> faces;  // the faces round left[i], outward
 };
 constexpr int kFoldFillIterations = 40, kFoldFillFade = 6;
+constexpr int kFairChinRingsAbove = 2, kFairChinColumns = 14;  // the jaw's fairing (make_fairing())
 
 // Each vertex's distance in edges from the nearest of `from[i]` where `among[i]` holds
 // (breadth-first; a large number where none is reachable).
@@ -2099,6 +2101,21 @@ Fairing make_fairing() {
     for (int q = 0; q < kArmN; ++q)
       take(B.arm[0][static_cast<size_t>(r)][static_cast<size_t>(q)], B.arm[1][static_cast<size_t>(r)][static_cast<size_t>(q)], free, w);
   }
+  // Under the jaw: the chin ring stands several centimetres in front of the neck's rings and
+  // often less than a centimetre above the cervicale ring, so the neck's front met the floor of
+  // the mouth along the cervicale ring at about 85° on the typical bodies, and the floor met the
+  // face along the chin ring: a mask's rim from the chin back to the jaw's angle in every
+  // three-quarter and side view. Six rings (were three) between the two and the fairing of the
+  // front of the head from the cervicale ring (level: the neck ring's girth lies just under it)
+  // to two rings above the chin's round both edges off. No measure lies there (the head's are on
+  // the glabella ring); the relief (sculpt()) draws the chin and lips afterwards. Points on the
+  // midline stay on it.
+  for (int k = torso_key_ring(kCervicale); k <= torso_key_ring(kChin) + kFairChinRingsAbove; ++k)
+    for (int j = 0; j <= kFairChinColumns; ++j) {
+      const Vec3 freedom = k == torso_key_ring(kCervicale) ? level : free;
+      take(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>((kTorsoN - j) % kTorsoN)],
+           j == 0 ? Vec3(0, freedom.y(), 1) : freedom, 1.0, false, 0.0);
+    }
   // The groin: where one torso ring around both thighs meets a tube around each thigh, the
   // torso's bottom rings stand out over the thighs' front-lateral quarter and the surface folds
   // along a horizontal line (a shorts hem). Fairing the two bottom torso rings and the legs' first
@@ -2412,14 +2429,9 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         f -= 0.08 * blob(X - 2.3, Y + 8.5, 0.8, 0.8);    // mouth corners
         f -= 0.28 * blob(X, Y + 10.3, 2.2, 0.7);         // labiomental fold
         f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
-        // The jaw line: the mandible's lower border from the chin back to its angle, the soft
-        // floor of the mouth under it.
-        {
-          const double yj = -12.4 + 2.4 * sq(std::min(X, 5.5) / 5.5);
-          const double along = 1 - smoothstep(4.5, 6.5, X);
-          f += 0.12 * along * blob(Y - (yj + 0.4), 0, 0.8, 1);
-          f -= 0.20 * along * blob(Y - (yj - 0.9), 0, 0.9, 1);
-        }
+        // No jaw line of its own: the lifted chin ring is the mandible's lower border, faired
+        // into the floor of the mouth (make_fairing()). A ridge along it over a hollow under it
+        // drew the border as a crisp line from the chin to the ear, a mask's rim.
         // Faded out toward the head's sides by the point's place across its ring, not by its
         // column: the face's columns are respaced (respace_torso_columns), so a column's index
         // no longer says where it lies.
