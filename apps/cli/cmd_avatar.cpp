@@ -150,7 +150,7 @@ void register_render(CLI::App& app) {
   add_body_options(*cmd, *opts, true);
   cmd->add_option("--mesh", *mesh_file, "render this OBJ file instead of building an avatar");
   cmd->add_option("-o,--output", *output, "output PNG file (.png)")->required();
-  cmd->add_option("--views", *views, "views: front, side, back, three-quarter")->delimiter(',')->capture_default_str();
+  cmd->add_option("--views", *views, "views: front, side, back, three-quarter, top (from above, the body's front at the bottom)")->delimiter(',')->capture_default_str();
   CLI::Option* pose_option = cmd->add_option("--pose", *pose,
                   "t (rest pose, arms horizontal), a (arms lowered 45°), stride (mid-stride, knees and elbows bent) or "
                   "fist (arms lowered 45°, hands closed); a, stride and fist are posed by the rig's skinning")
@@ -183,7 +183,8 @@ void register_render(CLI::App& app) {
       else if (v == "side") vs.push_back(View::Side);
       else if (v == "back") vs.push_back(View::Back);
       else if (v == "three-quarter" || v == "3/4" || v == "threequarter") vs.push_back(View::ThreeQuarter);
-      else throw Error(ErrorKind::InvalidArgument, "unknown view '" + v + "' (front, side, back, three-quarter)", "--views");
+      else if (v == "top") vs.push_back(View::Top);
+      else throw Error(ErrorKind::InvalidArgument, "unknown view '" + v + "' (front, side, back, three-quarter, top)", "--views");
     }
     RenderOptions ro;
     ro.width = *width;

@@ -21,6 +21,7 @@ const char* to_string(View view) {
     case View::Side: return "side";
     case View::Back: return "back";
     case View::ThreeQuarter: return "three_quarter";
+    case View::Top: return "top";
   }
   return "unknown";
 }
@@ -33,6 +34,7 @@ using Rgb = Eigen::Vector3f;
 constexpr int kSupersample = 3;                                   // 3×3 samples per pixel
 constexpr double kFovY = 30.0 * std::numbers::pi / 180.0;         // vertical field of view
 constexpr double kPitch = 6.0 * std::numbers::pi / 180.0;         // camera looks slightly down
+constexpr double kTopLean = 15.0 * std::numbers::pi / 180.0;       // the top view, from the vertical
 constexpr double kFill = 0.86;                                    // fraction of the half-frame the mesh may use
 constexpr double kNear = 0.02;                                    // metres in front of the eye
 constexpr int kMaxSide = 4096;
@@ -278,22 +280,25 @@ struct Camera {
   }
 };
 
-Vec3 view_direction(View view) {  // from the target toward the camera, horizontal
+// From the target toward the camera: the side views look slightly down (kPitch); the top view
+// leans toward the front so that the image's up (away from the body's front) is well defined.
+Vec3 toward_camera(View view) {
   const double s = std::sqrt(0.5);
+  Vec3 horizontal{0, 0, 1};
   switch (view) {
-    case View::Front: return {0, 0, 1};
-    case View::Side: return {1, 0, 0};
-    case View::Back: return {0, 0, -1};
-    case View::ThreeQuarter: return {s, 0, s};
+    case View::Front: break;
+    case View::Side: horizontal = {1, 0, 0}; break;
+    case View::Back: horizontal = {0, 0, -1}; break;
+    case View::ThreeQuarter: horizontal = {s, 0, s}; break;
+    case View::Top: return Vec3(0, std::cos(kTopLean), std::sin(kTopLean));
   }
-  return {0, 0, 1};
+  return horizontal * std::cos(kPitch) + Vec3::UnitY() * std::sin(kPitch);
 }
 
 // Orientation only; distance and frame size come from fit_scale.
 Camera orient(const Scene& s, View view, const RenderOptions& o) {
   Camera c;
-  const Vec3 back = view_direction(view) * std::cos(kPitch) + Vec3::UnitY() * std::sin(kPitch);
-  c.forward = -back;
+  c.forward = -toward_camera(view);
   c.right = c.forward.cross(Vec3::UnitY()).normalized();
   c.up = c.right.cross(c.forward);
   c.ortho = o.orthographic;
@@ -551,7 +556,7 @@ void validate_views(const std::vector<View>& views) {
   if (views.empty() || views.size() > kMaxViews)
     throw Error(ErrorKind::InvalidArgument, "need 1.." + std::to_string(kMaxViews) + " views", "views");
   for (View view : views)
-    if (view != View::Front && view != View::Side && view != View::Back && view != View::ThreeQuarter)
+    if (view != View::Front && view != View::Side && view != View::Back && view != View::ThreeQuarter && view != View::Top)
       throw Error(ErrorKind::InvalidArgument, "unknown view", "views");
 }
 

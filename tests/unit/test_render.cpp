@@ -165,7 +165,7 @@ TEST(Render, CubeCoversTheCentreAndLeavesCornersBackground) {
   o.width = 120;
   o.height = 160;
   o.body_rgb = {0.9f, 0.15f, 0.1f};
-  for (View view : {View::Front, View::Side, View::Back, View::ThreeQuarter}) {
+  for (View view : {View::Front, View::Side, View::Back, View::ThreeQuarter, View::Top}) {
     o.view = view;
     const Image img = decode(render_png(cube.vertices, cube.faces, o));
     ASSERT_EQ(img.width, 120);
@@ -264,6 +264,34 @@ std::array<int, 4> red_bounds(const Image& img, int x0, int x1) {
         b[3] = std::max(b[3], y);
       }
   return b;
+}
+
+// The top view looks down with the body's front at the image's bottom and its left (+X) on the
+// image's right: a wide slab behind (−Z) and a narrow post on the left-front (+X, +Z), seen from
+// above, put the slab's pixels in the upper half and the post right of the centre and low.
+TEST(Render, TopViewLooksDownWithTheFrontAtTheBottom) {
+  const Mesh slab = box({0, 0.3, -0.4}, {0.6, 0.3, 0.1});
+  const Mesh post = box({0.4, 0.3, 0.4}, {0.1, 0.3, 0.1});
+  Mesh both;
+  both.vertices.resize(16, 3);
+  both.vertices << slab.vertices, post.vertices;
+  both.faces.resize(24, 3);
+  both.faces << slab.faces, (post.faces.array() + 8).matrix();
+  RenderOptions o;
+  o.width = 160;
+  o.height = 160;
+  o.body_rgb = {0.9f, 0.15f, 0.1f};
+  o.view = View::Top;
+  const Image img = decode(render_png(both.vertices, both.faces, o));
+  int upper = 0, lower = 0, lower_right = 0, lower_left = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (is_red(img.at(x, y))) {
+        (y < img.height / 2 ? upper : lower) += 1;
+        if (y >= img.height / 2) (x >= img.width / 2 ? lower_right : lower_left) += 1;
+      }
+  EXPECT_GT(upper, 2 * lower) << "the slab behind the body's centre is at the top";
+  EXPECT_GT(lower_right, 4 * std::max(1, lower_left)) << "the post on the body's left-front is low and on the right";
 }
 
 TEST(Render, ViewsShareOneScale) {

@@ -18,6 +18,8 @@ enum class View {
   Side,          // from +X: the body's left side; the body faces the image's left
   Back,          // from −Z: the body's back; its left is on the image's left
   ThreeQuarter,  // from +X+Z at 45°: front and left side; the body faces the image's left-front
+  Top,           // from above (+Y, leaning 15° toward +Z): the body's front at the image's bottom,
+                 // its left on the image's right (the back of a T-posed hand, the top of the head)
 };
 const char* to_string(View view);
 
