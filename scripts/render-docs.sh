@@ -22,7 +22,7 @@ $c render --sex female --beta 0 -o docs/images/mannequin-posed.png --pose stride
 $c model uv-atlas mannequin --sex female --size 1024 -o docs/images/uv-atlas-female.png
 $c render --sex female --beta 0 --uv-checker -o docs/images/uv-checker-female.png "${size[@]}"
 # Hands: the open hand and the fist, close up; the body posed with fists.
-$c render --sex female --beta 0 --focus left_middle1 --focus-radius 12 --views front,side,three-quarter \
+$c render --sex female --beta 0 --focus left_middle1 --focus-radius 12 --views top,front,three-quarter \
   -o docs/images/mannequin-hand.png --image-width 480 --image-height 400
 $c render --sex male --beta 0 --pose fist --focus left_middle1 --focus-radius 11 --views side,three-quarter \
   -o docs/images/mannequin-fist.png --image-width 480 --image-height 400
