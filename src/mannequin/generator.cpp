@@ -2083,6 +2083,8 @@ Fairing make_fairing() {
     f.hole_bottom.push_back(hole_bottom);
     f.fill.push_back(fill);
   };
+  // Faired only: the jaw and the groin have no armpit folds to fill.
+  auto take_unfilled = [&](int l, int r, const Vec3& freedom) { take(l, r, freedom, 1.0, false, 0.0); };
   const int kax = torso_key_ring(kAxilla);
   // From the hole's bottom edge up: left out, its corners stayed sharp, a notch in front of and
   // behind the armpit. That edge keeps its height (free to rise, it folded over the ring under
@@ -2113,8 +2115,8 @@ Fairing make_fairing() {
   for (int k = torso_key_ring(kCervicale); k <= torso_key_ring(kChin) + kFairChinRingsAbove; ++k)
     for (int j = 0; j <= kFairChinColumns; ++j) {
       const Vec3 freedom = k == torso_key_ring(kCervicale) ? level : free;
-      take(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>((kTorsoN - j) % kTorsoN)],
-           j == 0 ? Vec3(0, freedom.y(), 1) : freedom, 1.0, false, 0.0);
+      take_unfilled(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>((kTorsoN - j) % kTorsoN)],
+                    j == 0 ? Vec3(0, freedom.y(), 1) : freedom);
     }
   // The groin: where one torso ring around both thighs meets a tube around each thigh, the
   // torso's bottom rings stand out over the thighs' front-lateral quarter and the surface folds
@@ -2124,7 +2126,7 @@ Fairing make_fairing() {
   // other on heavy bodies. Not the inner thigh beside the crotch bridge, whose fold between the
   // legs would sharpen.
   std::set<int> seen(f.left.begin(), f.left.end());
-  auto take_once = [&](int l, int r) { if (seen.insert(l).second) take(l, r, level, 1.0, false, 0.0); };
+  auto take_once = [&](int l, int r) { if (seen.insert(l).second) take_unfilled(l, r, level); };
   for (int k = 0; k < kFairGroinTorsoRings; ++k)
     for (int j = 1; j < kTorsoN / 2; ++j)
       take_once(B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)], B.torso[static_cast<size_t>(k)][static_cast<size_t>(kTorsoN - j)]);
