@@ -96,16 +96,20 @@ enum TorsoKey {
   kNeck, kCervicale, kChin, kMouth, kNose, kGlabella, kTorsoKeyCount
 };
 // kArmpit: the axilla landmark's ring, just under the armpit hole whose bottom is kAxilla.
-// The face (chin → mouth → nose → glabella) has rings about 5 mm apart, so the relief (sculpt())
-// can draw lips, nose and eye sockets; six rings between the cervicale and the chin let the
+// The face has rings about 5 mm apart from the chin to the mouth and 2.5 mm from the mouth to the
+// glabella, so the relief (sculpt()) can draw lips, nose and eyes; six rings between the cervicale and the chin let the
 // fairing round the neck and the jaw's border under the chin (make_fairing()).
-constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 6, 8, 8, 10};
+constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 6, 8, 16, 20};
 // The jaw's lower border rises from the chin to the angle of the jaw: the chin ring's sides are
 // lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
 constexpr double kJawLift = 0.15;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
-constexpr double kFaceDensity = 1.5;  // extra column density across the face (respace_torso_columns)
+constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
+constexpr double kEarDensity = 2.0;   // and across the ears
+// The ear, in head centimetres from the glabella (Y up, scaled by the face's height; Z forward
+// of the head's centre): its centre and half-height and half-width.
+constexpr double kEarY = -4.3, kEarZ = -1.1, kEarRY = 2.8, kEarRZ = 1.7;
 
 // Leg stations (below the theta ring r0) and intervals.
 enum LegKey { kLegTop, kThigh, kLowerThigh, kKnee, kCalf, kAnkle, kMalleolus, kLegKeyCount };
@@ -2274,13 +2278,52 @@ void mark_section(const Grid& g, const std::vector<Vec3>& v, double ys, int r0, 
     }
 }
 
+// The frame the head's features are laid out in: head centimetres (head length / 19.5 cm) from
+// the glabella ring, vertically scaled by the face's height (glabella to chin) as a share of its
+// usual 13.06 head centimetres (less where a short neck lifts the chin ring).
+struct HeadFrame {
+  double hu = 0, face = 1, y_g = 0, cz = 0;
+  double X(double x) const { return x / hu; }
+  double Y(double y) const { return (y - y_g) / (hu * face); }
+  double Z(double z) const { return (z - cz) / hu; }
+};
+HeadFrame head_frame(const BodyPlan& P, const Dims& d) {
+  const TorsoRing& glabella = P.torso[static_cast<size_t>(torso_key_ring(kGlabella))];
+  HeadFrame H;
+  H.hu = 0.01 * d.headl / 0.195;
+  H.y_g = glabella.y;
+  H.cz = glabella.cz;
+  H.face = std::clamp((H.y_g - P.torso[static_cast<size_t>(torso_key_ring(kChin))].y) / (13.06 * H.hu), 0.3, 1.0);
+  return H;
+}
+
+// Near the ear (1 over it, fading to 0 a little beyond): where its columns are denser.
+double ear_zone(double Y, double Z) {
+  return (1 - smoothstep(1.0, 2.4, std::abs(Y - kEarY) / kEarRY)) * (1 - smoothstep(1.0, 1.6, std::abs(Z - kEarZ) / kEarRZ));
+}
+
+// The ear's height off the side of the head, head centimetres: a shell standing out most at its
+// back edge (its front is the cheek's), with a rim (the helix) round its top and back, the
+// lobe without one, and a bowl (the concha) in front of the rim's lower half. A shell and one
+// hollow, as before 2026-11-28, read as a bump on the head.
+double ear_height(double Y, double Z) {
+  const double u = (Y - kEarY) / kEarRY, w = (Z - kEarZ) / kEarRZ, r = std::hypot(u, w);
+  if (r >= 1) return 0.0;
+  const double back = smoothstep(-1.0, 1.0, -w);
+  const double shell = (1 - smoothstep(0.55, 1.0, r)) * (0.7 + 0.5 * back);
+  const double front_low = (1 - smoothstep(-0.1, 0.4, u)) * smoothstep(-0.1, 0.4, w);
+  const double rim = blob(r - 0.7, 0, 0.3, 1) * (1 - front_low) * smoothstep(-0.75, -0.45, u);
+  const double bowl = blob(u + 0.1, w - 0.1, 0.42, 0.48);
+  return shell + 0.35 * rim - 0.7 * bowl;
+}
+
 // Squarish rings (men's chests reach superellipse exponent 14) sample their flat front and back
 // with hardly a vertex: column 1 sits at 0.7 of the half-breadth, so a groove or a pectoral has
 // nothing to move. Each ring's front (columns 0–8) and back (24–32), and the head's rings all
 // round, are re-spaced along the ring's own polyline, at equal steps of length plus a share for the turning angle (corners keep more
 // columns): the vertices stay on the polyline, so the ring keeps its extreme points and, up to the
 // corners' chords (< 0.1 % of a girth), its hull. Landmark columns and the ends stay in place.
-void respace_torso_columns(Builder& B, const std::set<int>& pinned) {
+void respace_torso_columns(Builder& B, const std::set<int>& pinned, const HeadFrame& H) {
   std::vector<Vec3>& v = B.v;
   const int nt = static_cast<int>(B.torso.size());
   for (int k = 1; k < nt; ++k) {
@@ -2292,8 +2335,13 @@ void respace_torso_columns(Builder& B, const std::set<int>& pinned) {
     // wings, lips) are 1–3 cm wide, and at the head's even 9 mm spacing an eye had three columns.
     // Edges in front cost more, fading from the glabella ring up the dome (whose forehead
     // carries no feature) so the columns do not shear against the face's.
-    const int kg = torso_key_ring(kGlabella);
-    const double face_weight = !head ? 0.0 : kFaceDensity * std::clamp(1.0 - double(k - kg) / (kDomeRings / 2), 0.0, 1.0);
+    // Under the jaw the weight fades in from the cervicale ring: the rings there lie close in
+    // height but centimetres apart in depth, and columns spaced differently on neighbouring
+    // rings fold the floor of the mouth.
+    const int kg = torso_key_ring(kGlabella), kcv = torso_key_ring(kCervicale), kch = torso_key_ring(kChin);
+    const double face_weight = !head ? 0.0
+                                     : kFaceDensity * std::clamp(1.0 - double(k - kg) / (kDomeRings / 2), 0.0, 1.0) *
+                                           std::clamp(double(k - kcv) / (kch + 2 - kcv), 0.0, 1.0);
     const std::vector<std::pair<int, int>> spans = head ? std::vector<std::pair<int, int>>{{0, 16}, {16, 32}}
                                                         : std::vector<std::pair<int, int>>{{0, 6}, {26, 32}};
     for (const auto& [j0, j1] : spans) {
@@ -2319,7 +2367,10 @@ void respace_torso_columns(Builder& B, const std::set<int>& pinned) {
                 turn += 0.5 * std::acos(std::clamp(u.dot(w), -1.0, 1.0));
               }
               const double face = j0 == 0 ? 1 - smoothstep(0.55, 0.85, 0.5 * std::abs(q[i].x() + q[i - 1].x()) / std::max(half, 1e-9)) : 0.0;
-              cost[i] = cost[i - 1] + (q[i] - q[i - 1]).norm() * (1 + face_weight * face) + scale * turn;
+              // Around the ears too: a rim and a bowl need columns about 4 mm apart, not 9.
+              const Vec3 mid = 0.5 * (q[i] + q[i - 1]);
+              const double ear = head ? kEarDensity * ear_zone(H.Y(mid.y()), H.Z(mid.z())) : 0.0;
+              cost[i] = cost[i - 1] + (q[i] - q[i - 1]).norm() * (1 + face_weight * face + ear) + scale * turn;
             }
             size_t e = 1;
             for (int j = a + 1; j < b; ++j) {
@@ -2343,12 +2394,13 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const double fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
   const double sc = d.S / 1.70;
   const double cm = 0.01 * sc;               // one centimetre on a 1.70 m body
-  const double hu = 0.01 * d.headl / 0.195;  // one centimetre on a 19.5 cm long head
+  const HeadFrame H = head_frame(P, d);
+  const double hu = H.hu;                    // one centimetre on a 19.5 cm long head
   std::vector<Vec3>& v = B.v;
   {
     std::set<int> pinned;
     for (const auto& [name, id] : B.landmarks) pinned.insert(id);
-    respace_torso_columns(B, pinned);
+    respace_torso_columns(B, pinned, H);
   }
   const std::vector<Vec3> v0 = v;
   std::vector<double> D(v.size(), 0.0);      // outward displacement, metres
@@ -2357,18 +2409,13 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
 
   auto ring_y = [&](int key) { return P.torso[static_cast<size_t>(torso_key_ring(key))].y; };
   const double y_hip = ring_y(kHip), y_w = ring_y(kWaist), y_us = ring_y(kUnderBust), y_ch = ring_y(kChest),
-               y_acr = ring_y(kHoleTop), y_nk = ring_y(kNeck), y_cv = ring_y(kCervicale), y_g = ring_y(kGlabella);
+               y_acr = ring_y(kHoleTop), y_nk = ring_y(kNeck), y_cv = ring_y(kCervicale);
   const TorsoRing& chest = P.torso[static_cast<size_t>(torso_key_ring(kChest))];
-  const TorsoRing& glab = P.torso[static_cast<size_t>(torso_key_ring(kGlabella))];
   const double a_ch = chest.a, a_sh = P.torso[static_cast<size_t>(torso_key_ring(kHoleTop))].a;
   const double a_hip = P.torso[static_cast<size_t>(torso_key_ring(kHip))].a;
   const double y_ax = ring_y(kAxilla), y_s2 = ring_y(kShoulder2);
   const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
   const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
-  const double head_cz = glab.cz;
-  // The face's height, glabella to chin, as a share of its usual 13.06 head centimetres (less
-  // where a short neck lifts the chin ring): the face's features are laid out over it.
-  const double face = std::clamp((y_g - ring_y(kChin)) / (13.06 * hu), 0.3, 1.0);
 
   // -- Torso, neck and head (left half, j = 0..32).
   const Grid T{&B.torso};
@@ -2385,7 +2432,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       double h = 0;
       if (y > y_cv) {
         // Face, in head centimetres from the glabella (X across, Y up).
-        const double X = x / hu, Y = (y - y_g) / (hu * face);
+        const double X = H.X(x), Y = H.Y(y);
         double f = 0;
         // Brow ridge, under the glabella ring, ending level at it (that ring carries the head's
         // measures and does not move: a ridge that stops short of it shades a line across the forehead).
@@ -2398,20 +2445,25 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           f -= 0.85 * blob(X - 3.1, dy, 1.6, dy < 0 ? 0.9 : 1.35);
         }
         f += 0.42 * blob(X - 3.1, Y + 2.7, 1.2, 0.9);    // the eye (lids) inside it
-        f -= 0.25 * blob(X - 3.1, Y + 2.75, 1.0, 0.55);    // the eye's opening between the lids
+        f -= 0.22 * blob(X - 3.1, Y + 2.75, 1.25, 0.5);    // the eye's opening between the lids
+        f += 0.12 * blob(X - 3.1, Y + 2.8, 0.7, 0.45);     // the eyeball's front (cornea) in the opening
+        f -= 0.12 * blob(X - 3.0, Y + 2.0, 1.3, 0.45);     // the upper lid's crease
         f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
         f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
         // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
         {
-          const double y_top = -1.4, y_tip = -5.4, y_base = -6.7, height = 2.7;
+          const double y_top = -1.4, y_tip = -5.4, y_base = -6.7, height = 2.3;
           double prof = 0;
           if (Y <= y_top && Y >= y_tip) prof = std::pow((y_top - Y) / (y_top - y_tip), 1.3);
           else if (Y < y_tip && Y > y_base) prof = 1 - smoothstep(0.0, 1.0, (y_tip - Y) / (y_tip - y_base));
           const double half = std::lerp(1.1, 2.0, std::clamp((y_top - Y) / (y_top - y_tip), 0.0, 1.0));
           f += height * prof * blob(X, 0, half, 1);
+          f += 0.55 * blob(X, Y + 5.4, 1.1, 1.1);  // the tip's rounded end (a wedge without it)
           {  // the nostrils' wings, easing down into the upper lip (a sharp lower edge shaded a moustache)
             const double dy = Y + 5.9;
-            f += 0.60 * blob(X - 1.6, dy, 1.1, dy < 0 ? 1.6 : 0.9);
+            f += 0.75 * blob(X - 1.7, dy, 1.0, dy < 0 ? 1.6 : 0.9);
+            // the alar groove round each wing's top and back, which sets it off the cheek
+            f -= 0.15 * (blob(X - 1.7, Y + 5.6, 1.6, 1.3) - blob(X - 1.7, Y + 5.6, 1.15, 0.9));
           }
         }
         // No hollow under the cheekbone: the head rings' own curve carries the face round to the
@@ -2425,9 +2477,16 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // into it (without it the lips sat on a flat plate and the nose's shadow ran out
         // sideways as a grin).
         f += 0.45 * blob(X, Y + 8.4, 3.6, 3.0);
-        f += 0.35 * blob(X, Y + 7.75, 2.1, 0.85);        // upper lip
-        f += 0.32 * blob(X, Y + 9.1, 1.9, 0.8);          // lower lip
-        f -= 0.30 * blob(X, Y + 8.45, 2.1, 0.35);        // mouth line, no wider than the lips
+        // Lips: each rises slowly from the skin and drops steeply into the mouth line, so the upper
+        // lip faces down and the lower lip up, as real ones do (rounded both ways, each lip was lit
+        // as a bar across the face); both thin out toward the corners.
+        auto lip = [&](double dy, double rx, double ry_up, double ry_down) {
+          return blob(X, dy, rx, (dy > 0 ? ry_up : ry_down) * std::sqrt(std::max(0.2, 1 - sq(X / rx))));
+        };
+        f += 0.36 * lip(Y + 8.2, 2.1, 1.4, 0.35);        // upper lip
+        f += 0.36 * lip(Y + 8.85, 1.9, 0.4, 0.95);       // lower lip
+        f -= 0.18 * lip(Y + 8.5, 2.2, 0.25, 0.25);       // mouth line, no wider than the lips
+        f -= 0.10 * blob(X, Y + 7.0, 0.45, 0.9);         // the philtrum's groove
         f -= 0.08 * blob(X - 2.3, Y + 8.5, 0.8, 0.8);    // mouth corners
         f -= 0.28 * blob(X, Y + 10.3, 2.2, 0.7);         // labiomental fold
         f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
@@ -2439,11 +2498,9 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // no longer says where it lies.
         const double face_front = j <= kTorsoN / 4 ? 1 - smoothstep(0.78, 0.98, x / P.torso[static_cast<size_t>(k)].a) : 0.0;
         h += face_front * f * hu;
-        // Ears: a flattened shell on each side, behind the head's mid-depth.
-        const double Z = (p.z() - head_cz) / hu;
-        const double side = smoothstep(0.55, 0.85, s);
-        const double ear = 1.2 * blob(Y + 4.3, Z + 1.1, 2.8, 1.7) - 0.6 * blob(Y + 4.6, Z + 0.7, 1.3, 0.8);
-        h += side * ear * hu;
+        // Ears, on the head's sides (by place, not column: the ears' columns are respaced too).
+        const double side = smoothstep(0.55, 0.85, x / P.torso[static_cast<size_t>(k)].a);
+        h += side * ear_height(Y, H.Z(p.z())) * hu;
       }
       // Torso, front.
       {

@@ -121,6 +121,15 @@ std::vector<std::string> relief_failures(const BodyModel& model, const Vertices&
     for (const auto& p : pts)
       if (p.x() > 0 && p.z() > cz - 3 * hu && p.z() < cz + 1 * hu) ear = std::max(ear, p.x());
     check(ear >= at("head_side_left").x() - 0.2 * hu, "ear stands out", ear - at("head_side_left").x());
+    // The ear's back half (the shell's free edge and its rim) stands out from the head at the
+    // ear's middle by ≥ 3 mm beyond the head's side just above the ear at the same depth (the
+    // head narrows below the brow), and beyond the bowl (concha) in front of it. The shell and
+    // hollow before 2026-11-28 stood 0.8–3.7 mm inside that side, and its middle was its fullest.
+    const auto middle = cut(v, f, g.y() - 4.6 * face * hu), above = cut(v, f, g.y() - 0.8 * face * hu);
+    const double back = extreme_x(middle, cz - 2.1 * hu, 0.5 * hu, 0), bowl = extreme_x(middle, cz - 0.9 * hu, 0.3 * hu, 0);
+    const double side = extreme_x(above, cz - 2.1 * hu, 0.5 * hu, 0);
+    check(back - side >= 0.3 * hu, "ear's back edge stands out from the head", back - side);
+    check(back - bowl >= 0.1 * hu, "ear's bowl behind its back edge", back - bowl);
   }
   // Spine groove between the erector muscles, halfway from the navel to the bust point.
   {
