@@ -10,15 +10,22 @@
 # avatars into it (tests/e2e/check-glb.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-bash scripts/build.sh
+# Each phase says how long it took (CI has a time budget: docs/reliability.md "CI time").
+timed() {
+  local start=$SECONDS
+  "$@"
+  echo "[caliper] $* took $((SECONDS - start)) s"
+}
+timed bash scripts/install-deps.sh
+timed bash scripts/build.sh
 # install-deps.sh has installed every external checker: one that is missing now is a failure,
 # not a skipped test.
 export CALIPER_REQUIRE_TOOLS=1
-(cd build && ctest --output-on-failure -j "$(nproc)" --timeout 600)
+(cd build && timed ctest --output-on-failure -j "$(nproc)" --timeout 600)
 if [ "${CALIPER_SKIP_SANITIZE:-0}" != "1" ]; then
-  bash scripts/sanitize.sh
-  bash scripts/fuzz.sh --seconds "${CALIPER_FUZZ_SECONDS:-15}"
+  timed bash scripts/sanitize.sh --build-only
+  timed bash scripts/sanitize.sh
+  timed bash scripts/fuzz.sh --seconds "${CALIPER_FUZZ_SECONDS:-15}"
 else
   echo "[caliper] CALIPER_SKIP_SANITIZE=1: the sanitizer build and the fuzzers were not run"
 fi
