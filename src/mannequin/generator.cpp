@@ -212,6 +212,12 @@ double arm_angle(int q) { return (-45.0 + q * 360.0 / kArmN) * kPi / 180.0; }
 constexpr int kArmBottom = 4, kArmBack = 12, kArmTop = 20, kArmFront = 28;
 
 double spow(double v, double e) { return v < 0 ? -std::pow(-v, e) : std::pow(v, e); }
+double sq(double v) { return v * v; }
+// 1 at the centre, 0 beyond the ellipse of radii (rx, ry), C² in between.
+double blob(double dx, double dy, double rx, double ry) {
+  const double r2 = sq(dx / rx) + sq(dy / ry);
+  return r2 >= 1 ? 0.0 : (1 - r2) * (1 - r2) * (1 - r2);
+}
 
 // ---- Ring shapes -------------------------------------------------------------------------
 struct TorsoRing {
@@ -636,6 +642,28 @@ struct BodyPlan {  // everything the builder needs, derived from the dimensions
 double rounded(double m, double tip_fraction) {
   const double m0 = 1 - tip_fraction;
   return m <= m0 ? 1.0 : std::sqrt(std::max(0.0, 1 - std::pow((m - m0) / tip_fraction, 2)));
+}
+
+// The knuckles and the webs between the fingers lie on an arc, not a straight line across the
+// hand: each finger's base lies behind the middle finger's, the little finger's most (about 1.1
+// cm on a 19 cm hand; the index's 1.5 mm, the ring finger's 3.5 mm). How far behind, metres, at
+// u across the hand (+1 the index's edge, −1 the little finger's; the middle finger's centre at
+// 0.2). Straight, the fingers split from a box along one line.
+double knuckle_arc(double u, double hand_length) {
+  static const MonotoneCurve arc({-1.0, -0.78, -0.3, 0.2, 0.73, 1.0}, {1.3, 1.1, 0.35, 0.0, 0.15, 0.25});
+  return arc(std::clamp(u, -1.0, 1.0)) * 0.01 * hand_length / 0.19;
+}
+
+// The knuckles on the back of the hand (+Y, palm down): a rise of 4 mm (on a 19 cm hand) over each
+// finger's metacarpal head, 2.6 cm long, on the hand's top only. A fist shows them most. `p` is
+// a point of `ring` (across the hand and up; along it, the ring's own place counts); the rise in metres.
+double knuckle_bumps(const ArmRing& ring, double knuckle_x, const Vec3& p, double hand_length) {
+  constexpr std::array<double, 4> kCentre = {0.73, 0.2, -0.3, -0.78}, kHalf = {0.22, 0.21, 0.2, 0.18};  // u across the hand
+  const double cm = 0.01 * hand_length / 0.19;
+  const double u = (p.z() - ring.zc) / ring.rz, top = smoothstep(0.3, 0.8, (p.y() - ring.yc) / ring.ry);
+  double rise = 0;
+  for (size_t f = 0; f < kCentre.size(); ++f) rise += blob(u - kCentre[f], ring.x - knuckle_x, kHalf[f], 1.3 * cm);
+  return 0.4 * cm * top * rise;
 }
 
 // The thumb and fingers of the left hand, from the knuckle and web rings (ANSUR has only hand
@@ -1342,7 +1370,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double thick = 0.15 * d.handb + 0.012 * sc;
     A[kPalm] = {x_wr + 0.12 * hl, P.arm_y, zc0, thick * 0.55, d.handb * 0.44, 2.6};
     A[kThumbTop] = {x_wr + 0.32 * hl, P.arm_y, zc0, thick * 0.5, d.handb * 0.49, 2.8};
-    A[kKnuckle] = {x_wr + 0.47 * hl, P.arm_y, zc0, thick * 0.42, d.handb * 0.5, 2.8};
+    // The hand breadth is the straight distance between the knuckle ring's edges, which the
+    // knuckle arc (build()) puts at different depths along the hand.
+    const double arc_step = knuckle_arc(-1, d.handl) - knuckle_arc(1, d.handl);
+    A[kKnuckle] = {x_wr + 0.47 * hl, P.arm_y, zc0, thick * 0.42, 0.5 * std::sqrt(d.handb * d.handb - arc_step * arc_step), 2.8};
     A[kWeb] = {x_wr + 0.54 * hl, P.arm_y, zc0, thick * 0.36, d.handb * 0.48, 3.2};
     for (int key = kKnuckle; key < kArmKeyCount; ++key) A[static_cast<size_t>(key)].flat = 1;  // after the thumb's hole
     std::vector<double> x, yc, zc, ry, rz, pp, fl;
@@ -1613,12 +1644,17 @@ void build(const BodyPlan& P, Builder& B) {
     for (int k = kax; k < kax + kHoleRows; ++k) A[0][static_cast<size_t>(q++)] = B.torso[static_cast<size_t>(k)][static_cast<size_t>(tj(kHoleJ1))];
     for (int j = kHoleJ1; j > kHoleJ0; --j) A[0][static_cast<size_t>(q++)] = B.torso[static_cast<size_t>(kax + kHoleRows)][static_cast<size_t>(tj(j))];
     for (int k = kax + kHoleRows; k > kax; --k) A[0][static_cast<size_t>(q++)] = B.torso[static_cast<size_t>(k)][static_cast<size_t>(tj(kHoleJ0))];
+    const int r_thumb_top = arm_key_ring(kThumbTop), r_knuckle = arm_key_ring(kKnuckle);
     for (int r = 1; r < na; ++r) {
       const ArmRing& ring = P.arm[static_cast<size_t>(r)];
       const std::array<double, kArmN> psi = arm_column_angles(ring);
+      // The knuckle arc (knuckle_arc()) fades in from the thumb's top to the knuckles.
+      const double arc = smoothstep(r_thumb_top, r_knuckle, r);
       for (int qq = 0; qq < kArmN; ++qq) {
         if (in_thumb_hole(r, qq, h0)) continue;
-        const Vec3 p = arm_point(ring, psi[static_cast<size_t>(qq)]);
+        Vec3 p = arm_point(ring, psi[static_cast<size_t>(qq)]);
+        if (arc > 0) p.x() -= arc * knuckle_arc((p.z() - ring.zc) / ring.rz, P.hand_length);
+        p.y() += knuckle_bumps(ring, P.arm[static_cast<size_t>(r_knuckle)].x, p, P.hand_length);
         A[static_cast<size_t>(r)][static_cast<size_t>(qq)] = B.add(sd == 0 ? p : mirror(p), Part::Arm, sd == 0 ? 1 : -1);
       }
     }
@@ -2226,12 +2262,6 @@ void fair(std::vector<Vec3>& v, double hole_bottom_share) {
 // The left half is computed and mirrored, so bodies stay exactly symmetric.
 namespace {
 
-double sq(double v) { return v * v; }
-// 1 at the centre, 0 beyond the ellipse of radii (rx, ry), C² in between.
-double blob(double dx, double dy, double rx, double ry) {
-  const double r2 = sq(dx / rx) + sq(dy / ry);
-  return r2 >= 1 ? 0.0 : (1 - r2) * (1 - r2) * (1 - r2);
-}
 // 0 → 1 over [a0, a1], then 1 → 0 over [b0, b1] (each ramp at least 1 mm long).
 double window(double v, double a0, double a1, double b0, double b1) {
   return smoothstep(a0, std::max(a1, a0 + 1e-3), v) * (1 - smoothstep(b0, std::max(b1, b0 + 1e-3), v));

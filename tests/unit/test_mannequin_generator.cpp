@@ -336,7 +336,38 @@ TEST(MannequinGenerator, FingersAreSeparateAndInAnatomicalOrder) {
       // The middle fingertip is the dactylion, past every other digit.
       const double tip = v(mq::topology().landmarks.at("dactylion_" + s.substr(0, s.size() - 1)), 0);
       for (const char* f : {"index", "ring", "pinky", "thumb"}) EXPECT_GT(out * (tip - at(s + f + "3").x()), 0.0) << s << f;
+      // The knuckles lie on an arc: the little finger's at least 7 mm behind the middle finger's
+      // (per 19 cm of hand), the ring finger's behind it too, and the index's no further back
+      // than the ring finger's. A straight knuckle ring (before 2026-11-28) put all four level.
+      const double per_hand = mq::typical_dimensions(sex).at("handlength") / 0.19;
+      auto behind = [&](const char* f) { return out * (at(s + "middle1").x() - at(s + f + "1").x()) / per_hand; };
+      EXPECT_GT(behind("pinky"), 0.007) << s;
+      EXPECT_GT(behind("ring"), 0.001) << s;
+      EXPECT_LT(behind("index"), behind("ring")) << s;
+      EXPECT_LT(behind("ring"), behind("pinky")) << s;
     }
+  }
+}
+
+// The knuckles rise on the back of the hand (+Y, palm down): over the middle finger's knuckle
+// joint the hand's top stands at least 1 mm (per 19 cm of hand) above its top halfway to the ring
+// finger's. Without the knuckles' rise (before 2026-11-28) the hand's top is smooth there and fails this.
+TEST(MannequinGenerator, KnucklesRiseOnTheBackOfTheHand) {
+  for (Sex sex : {Sex::Female, Sex::Male}) {
+    const Vertices v = mq::generate(mq::typical_dimensions(sex), sex);
+    const BodyModel model = model_for(v, sex);
+    const Eigen::MatrixX3d j = model.joints(v);
+    const Eigen::Vector3d middle = j.row(joint_named(model, "left_middle1")).transpose(),
+                          ring = j.row(joint_named(model, "left_ring1")).transpose();
+    auto top_at = [&](double z) {  // the hand's top over the middle finger's knuckle, at depth z
+      double top = -1e9;
+      for (Eigen::Index i = 0; i < v.rows(); ++i)
+        if (std::abs(v(i, 0) - middle.x()) < 0.003 && std::abs(v(i, 2) - z) < 0.0035 && std::abs(v(i, 1) - middle.y()) < 0.03)
+          top = std::max(top, v(i, 1));
+      return top;
+    };
+    const double per_hand = mq::typical_dimensions(sex).at("handlength") / 0.19;
+    EXPECT_GT((top_at(middle.z()) - top_at(0.5 * (middle.z() + ring.z()))) / per_hand, 0.001) << to_string(sex);
   }
 }
 
