@@ -287,6 +287,7 @@ struct ConnectionFront::Impl {
   std::vector<std::unique_ptr<Connection>> arrivals;  // new or handed back, for the waiting room to take
   std::unordered_map<std::string, int> per_address;   // open connections by client group (client_group.h)
   int open = 0;
+  std::uint64_t accepted = 0;  // sockets handed to admit() so far, admitted or not
   std::size_t body_budget_used = 0;      // of kSharedBodyBudget, by requests being received
   std::size_t response_budget_used = 0;  // of kSharedResponseBudget, by responses being sent
   bool stopping = false, stopped = false;
@@ -319,6 +320,7 @@ struct ConnectionFront::Impl {
       numeric_address(a, length, c->local_address, c->local_port);
     {
       std::lock_guard<std::mutex> lock(mutex);
+      ++accepted;
       int& from_address = per_address[c->group];
       // Beyond twice the cap (or the total) not even a refusal is worth a socket.
       const bool beyond_total = open >= limits.max_total &&
@@ -695,6 +697,11 @@ void ConnectionFront::stop() { impl_->stop(); }
 int ConnectionFront::open_connections() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return impl_->open;
+}
+
+std::uint64_t ConnectionFront::accepted_connections() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->accepted;
 }
 
 }  // namespace caliper::server

@@ -22,6 +22,7 @@
 // Internal to apps/server: included by server.cpp and the front's own .cpp only.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 
@@ -56,6 +57,9 @@ class ConnectionFront {
 
   // Connections open now (waiting, being served, or being refused), for tests and the load report.
   int open_connections() const;
+  // Sockets handed to admit() so far, admitted or dropped at once: with open_connections(), tells
+  // a test when the server has dealt with a connection it just opened.
+  std::uint64_t accepted_connections() const;
 
  private:
   struct Impl;

@@ -266,5 +266,6 @@ void Server::stop() { impl_->http.stop(); }
 const Api& Server::api() const { return impl_->api; }
 
 int Server::open_connections() const { return impl_->front->open_connections(); }
+std::uint64_t Server::accepted_connections() const { return impl_->front->accepted_connections(); }
 
 }  // namespace caliper::server

@@ -2,6 +2,7 @@
 // front end's static files from a web root. httplib stays inside server.cpp.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -57,6 +58,8 @@ class Server {
   const Api& api() const;
   // Connections open now: idle, receiving, being served or being refused.
   int open_connections() const;
+  // Connections accepted so far, admitted or dropped at once (ConnectionFront::accepted_connections()).
+  std::uint64_t accepted_connections() const;
 
  private:
   struct Impl;

@@ -240,13 +240,22 @@ TEST(SlowClients, ConnectionsBeyondTheCapOfOneAddressGet503WithRetryAfter) {
 TEST(SlowClients, AFloodOfIdleConnectionsCannotLockNewcomersOut) {
   // 40 connections that send nothing, 10 from each of 4 addresses (within the per-address cap),
   // against a total cap of 20: newcomers are still served, and the flood's oldest are closed.
+  // Each connection opens once the server has dealt with the one before (accepted it, and evicted
+  // beyond the cap): the order of arrival is the order to evict by. Opened 2 ms apart instead, a
+  // loaded machine let admission run ahead of eviction, and the last address's connections were
+  // dropped on arrival (its newest among them: the check below failed under ctest -j2).
   ConnectionLimits limits;
   limits.max_total = 20;
   RunningServer s(options_with(limits));
+  const std::uint64_t before = s.server().accepted_connections();
   std::vector<std::unique_ptr<RawClient>> flood;
   for (int i = 0; i < 40; ++i) {
     flood.push_back(std::make_unique<RawClient>(s.port(), "127.0.0." + std::to_string(60 + i / 10)));
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // an order of arrival to evict by
+    const auto settled = [&] {
+      return s.server().accepted_connections() == before + static_cast<std::uint64_t>(i) + 1 && s.server().open_connections() <= 20;
+    };
+    for (int wait = 0; wait < 1000 && !settled(); ++wait) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ASSERT_TRUE(settled()) << "the server did not take flood connection " << i << " within 2 s";
   }
   for (int k = 0; k < 5; ++k) {
     RawClient c(s.port(), "127.0.1.4");
