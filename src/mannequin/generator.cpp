@@ -655,12 +655,13 @@ double knuckle_arc(double u, double hand_length) {
 }
 
 // The knuckles on the back of the hand (+Y, palm down): a rise of 4 mm (on a 19 cm hand) over each
-// finger's metacarpal head, 2.6 cm long, on the hand's top only. A fist shows them most. `p` is
-// a point of `ring` (across the hand and up; along it, the ring's own place counts); the rise in metres.
-double knuckle_bumps(const ArmRing& ring, double knuckle_x, const Vec3& p, double hand_length) {
+// finger's metacarpal head, 2.6 cm long, on the hand's top only. A fist shows them most. At u
+// across the hand (as knuckle_arc()) and height y on `ring`; the rise in metres.
+double knuckle_bumps(const ArmRing& ring, double knuckle_x, double u, double y, double hand_length) {
   constexpr std::array<double, 4> kCentre = {0.73, 0.2, -0.3, -0.78}, kHalf = {0.22, 0.21, 0.2, 0.18};  // u across the hand
   const double cm = 0.01 * hand_length / 0.19;
-  const double u = (p.z() - ring.zc) / ring.rz, top = smoothstep(0.3, 0.8, (p.y() - ring.yc) / ring.ry);
+  if (std::abs(ring.x - knuckle_x) >= 1.3 * cm) return 0.0;
+  const double top = smoothstep(0.3, 0.8, (y - ring.yc) / ring.ry);
   double rise = 0;
   for (size_t f = 0; f < kCentre.size(); ++f) rise += blob(u - kCentre[f], ring.x - knuckle_x, kHalf[f], 1.3 * cm);
   return 0.4 * cm * top * rise;
@@ -1653,8 +1654,9 @@ void build(const BodyPlan& P, Builder& B) {
       for (int qq = 0; qq < kArmN; ++qq) {
         if (in_thumb_hole(r, qq, h0)) continue;
         Vec3 p = arm_point(ring, psi[static_cast<size_t>(qq)]);
-        if (arc > 0) p.x() -= arc * knuckle_arc((p.z() - ring.zc) / ring.rz, P.hand_length);
-        p.y() += knuckle_bumps(ring, P.arm[static_cast<size_t>(r_knuckle)].x, p, P.hand_length);
+        const double across = (p.z() - ring.zc) / ring.rz;
+        if (arc > 0) p.x() -= arc * knuckle_arc(across, P.hand_length);
+        p.y() += knuckle_bumps(ring, P.arm[static_cast<size_t>(r_knuckle)].x, across, p.y(), P.hand_length);
         A[static_cast<size_t>(r)][static_cast<size_t>(qq)] = B.add(sd == 0 ? p : mirror(p), Part::Arm, sd == 0 ? 1 : -1);
       }
     }

@@ -204,6 +204,17 @@ TEST(SlowClients, SlowLorisConnectionsOutnumberingTheWorkersDoNotStopOthers) {
   EXPECT_GE(s.server().open_connections(), 40) << "the slow connections are still open: they were not simply dropped";
 }
 
+// Polls `done` every 2 ms for up to `seconds`: whether it came to hold.
+template <class Condition>
+bool wait_for(Condition done, double seconds) {
+  const auto until = Clock::now() + std::chrono::duration<double>(seconds);
+  while (!done()) {
+    if (Clock::now() >= until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
+}
+
 TEST(SlowClients, ConnectionsBeyondTheCapOfOneAddressGet503WithRetryAfter) {
   ConnectionLimits limits;
   limits.max_per_address = 4;
@@ -211,7 +222,7 @@ TEST(SlowClients, ConnectionsBeyondTheCapOfOneAddressGet503WithRetryAfter) {
   std::vector<std::unique_ptr<RawClient>> idle;
   for (int i = 0; i < 4; ++i) idle.push_back(std::make_unique<RawClient>(s.port(), "127.0.0.2"));
   // The accept thread admits them in order; wait until all four are counted.
-  for (int i = 0; i < 200 && s.server().open_connections() < 4; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  wait_for([&] { return s.server().open_connections() >= 4; }, 1.0);
   ASSERT_EQ(s.server().open_connections(), 4);
 
   RawClient fifth(s.port(), "127.0.0.2");
@@ -231,7 +242,7 @@ TEST(SlowClients, ConnectionsBeyondTheCapOfOneAddressGet503WithRetryAfter) {
   EXPECT_EQ(status_of(idle[0]->read_response()), 200);
   // Once they close, the address is served again.
   idle.clear();
-  for (int i = 0; i < 200 && s.server().open_connections() > 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  wait_for([&] { return s.server().open_connections() <= 2; }, 1.0);
   RawClient again(s.port(), "127.0.0.2");
   again.send(kHealth);
   EXPECT_EQ(status_of(again.read_response()), 200);
@@ -251,11 +262,11 @@ TEST(SlowClients, AFloodOfIdleConnectionsCannotLockNewcomersOut) {
   std::vector<std::unique_ptr<RawClient>> flood;
   for (int i = 0; i < 40; ++i) {
     flood.push_back(std::make_unique<RawClient>(s.port(), "127.0.0." + std::to_string(60 + i / 10)));
-    const auto settled = [&] {
-      return s.server().accepted_connections() == before + static_cast<std::uint64_t>(i) + 1 && s.server().open_connections() <= 20;
-    };
-    for (int wait = 0; wait < 1000 && !settled(); ++wait) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    ASSERT_TRUE(settled()) << "the server did not take flood connection " << i << " within 2 s";
+    const bool settled = wait_for([&] {
+      return s.server().accepted_connections() == before + static_cast<std::uint64_t>(i) + 1 &&
+             s.server().open_connections() <= limits.max_total;
+    }, 2.0);
+    ASSERT_TRUE(settled) << "the server did not take flood connection " << i << " within 2 s";
   }
   for (int k = 0; k < 5; ++k) {
     RawClient c(s.port(), "127.0.1.4");
