@@ -116,6 +116,7 @@ enum LegKey { kLegTop, kThigh, kLowerThigh, kKnee, kCalf, kAnkle, kMalleolus, kL
 constexpr std::array<int, kLegKeyCount - 1> kLegIntervals = {1, 8, 3, 5, 7, 2};
 constexpr std::array<double, 7> kFootLevels = {0.78, 0.58, 0.42, 0.29, 0.18, 0.09, 0.035};  // × malleolus height
 constexpr int kFootBreadthRing = 6;  // index into foot rings (+ the sole ring after them)
+constexpr int kHeelRing = 3;  // index into foot rings: the heel's fullest back (the heel landmark)
 // Toes, big toe (medial) to little toe: tubes grown like the thumb from holes in the forefoot's
 // front. Each hole spans foot rings kToeRing .. kToeRing + 2 (one interior ring, whose vertex at
 // the toe's column is left out) and the columns beside its own; neighbouring holes share those.
@@ -223,6 +224,7 @@ double blob(double dx, double dy, double rx, double ry) {
 struct TorsoRing {
   double y = 0, a = 0.1, df = 0.1, db = 0.1, cz = 0, p = 2.5;
   double bust = 0, bust_t = 0.75, bust_w = 0.32;  // bust bumps: amplitude (m), angle, width (rad)
+  double bust_w_out = 0;                           // the bumps' width on their outer side (0: bust_w)
   double glute = 0;                                // buttock bumps (m)
   double nose = 0, chin = 0;                       // face bumps (m)
   double front_taper = 0;  // the front half narrows by this share toward the midline (x × (1 − taper·cos²))
@@ -235,7 +237,8 @@ Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
   double tt = std::remainder(t, 2 * kPi);  // (−π, π]
   const double at = std::abs(tt);
   if (r.bust != 0) {
-    const double g = std::exp(-std::pow((at - r.bust_t) / r.bust_w, 2));
+    const double w = at > r.bust_t && r.bust_w_out > 0 ? r.bust_w_out : r.bust_w;
+    const double g = std::exp(-std::pow((at - r.bust_t) / w, 2));
     z += r.bust * g;
     x += 0.25 * r.bust * g * (tt >= 0 ? 1 : -1);
   }
@@ -342,6 +345,12 @@ struct LegRing {
   // Feet only: how far (0–1) the front columns are re-spaced for the toes (foot_angles()).
   double toe_spacing = 0;
 };
+// The calf's bulge behind the shin, as a share of LegRing::calf: the gastrocnemius' two heads,
+// the inner one the fuller, either side of a shallow furrow at the back (phi = π).
+double calf_heads(double phi) {
+  auto head = [phi](double centre) { return std::exp(-sq(std::remainder(phi - centre, 2 * kPi) / 0.62)); };
+  return 1.15 * head(-(kPi - 0.55)) + 0.85 * head(kPi - 0.55);
+}
 Eigen::Vector2d leg_xz(const LegRing& r, double phi) {  // left leg: lateral = +X
   const double s = std::sin(phi), c = std::cos(phi);
   const double e = 2.0 / (c > 0 && r.p_front > 0 ? r.p_front : r.p);
@@ -350,7 +359,7 @@ Eigen::Vector2d leg_xz(const LegRing& r, double phi) {  // left leg: lateral = +
   double x = r.xc + (s >= 0 ? r.al : r.am) * spow(s, e) * width;
   double z = r.zc + (c >= 0 ? r.bf : r.bb) * spow(c, e);
   if (c > 0 && s > 0) z -= r.toe_slant * c * c * s;
-  if (r.calf != 0) z -= r.calf * std::exp(-std::pow((std::abs(std::remainder(phi, 2 * kPi)) - kPi) / 0.9, 2));
+  if (r.calf != 0) z -= r.calf * calf_heads(phi);
   return {x, z};
 }
 // The angles of a leg ring's columns: leg_angle(), except on a foot ring whose front is re-spaced
@@ -381,6 +390,17 @@ std::array<double, kLegN> foot_angles(const LegRing& r) {
     }
   }
   return phi;
+}
+
+// Below the calf ring the calf's muscle bellies end about halfway down to the ankle and the leg
+// goes on narrow, over the tendons: the section's size falls from the calf's to the ankle's
+// early, with no slope at either ring (g(u) = (1 − u)^2.5 (1 + 2.5 u)), where a smooth curve
+// through the rings alone drew a cone from the calf to the ankle. u: 0 at the calf, 1 at the ankle.
+void shin_taper(LegRing& r, const LegRing& calf, const LegRing& ankle, double u) {
+  const double g = std::pow(1 - u, 2.5) * (1 + 2.5 * u);
+  auto mix = [g](double at_calf, double at_ankle) { return at_ankle + (at_calf - at_ankle) * g; };
+  r.al = mix(calf.al, ankle.al); r.am = mix(calf.am, ankle.am);
+  r.bf = mix(calf.bf, ankle.bf); r.bb = mix(calf.bb, ankle.bb); r.calf = mix(calf.calf, ankle.calf);
 }
 
 // Uniform scale about the centre so the (convex) ring's hull perimeter is c.
@@ -709,6 +729,16 @@ void plan_digits(const Dims& d, const ArmRing& knuckle, const ArmRing& web, Body
   }
 }
 
+// The back of the foot in profile, at f × the malleolus' height: from the Achilles tendon's back
+// (achilles, at the malleolus) down a concave curve to the heel bone's fullest back (heel_z, at
+// ring kHeelRing), then rounding forward into the sole as a heel does. Falling straight to a sole
+// edge at heel_z, it stood square from behind and beside, a boot's heel.
+double heel_profile(double f, double achilles, double heel_z, double foot_length) {
+  const double f_heel = kFootLevels[kHeelRing];
+  if (f >= f_heel) return std::lerp(heel_z, achilles, smoothstep(0.0, 1.0, (f - f_heel) / (1 - f_heel)));
+  return heel_z + 0.04 * foot_length * sq(1 - f / f_heel);
+}
+
 // The toes of the left foot, grown by build() from their holes in the foot's front (ANSUR has only
 // foot length and breadth: the rest are typical proportions). The big toe's tip is the foot
 // length's end, level with the heel landmark's ring as far as the toe's own height allows: its
@@ -716,8 +746,8 @@ void plan_digits(const Dims& d, const ArmRing& knuckle, const ArmRing& web, Body
 void plan_toes(const Dims& d, BodyPlan& P) {
   const int kf0 = leg_key_ring(kMalleolus) + 1;
   auto ring = [&](int i) -> const LegRing& { return P.leg[static_cast<size_t>(kf0 + i)]; };
-  const LegRing& breadth_ring = ring(kFootBreadthRing);
-  const Vec3 heel(breadth_ring.xc, breadth_ring.y, P.heel_z);
+  const LegRing& heel_ring = ring(kHeelRing);
+  const Vec3 heel(heel_ring.xc, heel_ring.y, P.heel_z);
   constexpr std::array<double, kToeCount> kLength = {0, 0.12, 0.105, 0.09, 0.075};  // × foot length; the big toe's by its tip
   constexpr std::array<double, kToeCount> kYawDeg = {0, 1, 3, 5, 7};                // lateral
   constexpr std::array<double, kToeCount> kWidth = {0.85, 0.8, 0.8, 0.8, 0.8};      // × the hole's half-width
@@ -1159,8 +1189,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       // Centred under the middle of the hip section (buttocks protrude behind, not the thighs).
       r.zc = K[kHip].cz + (hip_front - 0.5) * d.bd;
     }
-    auto make = [&](LegRing& r, double c, double xc, double zc, double depth_ratio, double calf) {
-      r.al = r.am = 1; r.bf = depth_ratio; r.bb = depth_ratio; r.p = 2.2; r.calf = calf;
+    // medial: how much further the ring reaches on its inner side than on its outer (a share).
+    auto make = [&](LegRing& r, double c, double xc, double zc, double depth_ratio, double calf, double medial = 0) {
+      r.al = 1 - medial; r.am = 1 + medial; r.bf = depth_ratio; r.bb = depth_ratio; r.p = 2.2; r.calf = calf;
       fit_leg_circumference(r, c);
       r.xc = std::max(xc, r.am + 0.003);
       r.zc = zc;
@@ -1191,8 +1222,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       t.bb *= 1.03;
       t.am = std::min(t.am * 1.05, t.xc - 0.003);
     }
-    make(L[kKnee], 0.97 * d.lthighc * 0.93, 0.5 * L[kThigh].xc + 0.04 * sc, 0.008, 0.95, 0);
-    make(L[kCalf], d.calfc, 0.45 * L[kThigh].xc + 0.042 * sc, -0.006, 1.0, 0.25);
+    // The knee (no ANSUR girth): 0.9 of the lower thigh's girth, but no fuller than the calf, or
+    // from the front the leg ran from the knee to the ankle as a cone (on about one body in eight).
+    make(L[kKnee], std::min(0.97 * d.lthighc * 0.93, d.calfc), 0.5 * L[kThigh].xc + 0.04 * sc, 0.008, 1.10, 0);
+    make(L[kCalf], d.calfc, 0.45 * L[kThigh].xc + 0.042 * sc, -0.006, 0.92, 0.25, 0.07);
     make(L[kAnkle], d.anklec, 0.42 * L[kThigh].xc + 0.04 * sc, -0.012, 1.05, 0);
     make(L[kMalleolus], d.anklec * 1.12, L[kAnkle].xc, -0.012, 0.95, 0);
     std::vector<double> y, xc, zc, al, am, bf, bb, pp, calf;
@@ -1209,6 +1242,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
         const double yy = L[key].y + (L[key + 1].y - L[key].y) * i / n;
         LegRing r{yy, cxc(yy), czc(yy), cal(yy), cam(yy), cbf(yy), cbb(yy), cpp(yy), ccalf(yy)};
         if (i == 0) r = L[key];
+        if (key == kCalf && i > 0) shin_taper(r, L[kCalf], L[kAnkle], static_cast<double>(i) / n);
         P.leg[static_cast<size_t>(k0 + i)] = r;
       }
     }
@@ -1236,6 +1270,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       b.df = std::max(0.02, std::min(0.98 * reach_front, std::max(h.df, reach_front)));
       b.bust_t = t_thigh;
       b.bust_w = 0.35;
+      // Outward of the thigh's centre the bump stays full longer, so the belly's lowest rings reach
+      // the thigh's front-lateral curve: narrower, they fell behind it and the hips met the thighs
+      // in a level groove across the front.
+      b.bust_w_out = 0.7;
       b.bust = std::max(0.0, reach_front - b.df * cf);
       b.db = std::max(0.02, std::min(0.98 * reach_back, std::max(h.db, reach_back)));
       // The buttock cheeks end over the backs of the thighs (the gluteal fold), never in front
@@ -1253,7 +1291,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
         r.a = P.hip_outline(r.y + P.torso_tilt_side[static_cast<size_t>(k)]); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e);
         r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e);
-        r.bust = std::lerp(b.bust, 0.0, e); r.bust_t = b.bust_t; r.bust_w = b.bust_w;
+        r.bust = std::lerp(b.bust, 0.0, e); r.bust_t = b.bust_t; r.bust_w = b.bust_w; r.bust_w_out = b.bust_w_out;
       }
       P.crotch_z = std::clamp(t.zc, b.cz - 0.5 * b.db, b.cz + 0.5 * b.df);
     }
@@ -1273,9 +1311,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       const double f = i < kFootLevels.size() ? kFootLevels[i] : 0.0;
       const double yy = f * y_ml;
       const double u = 1 - f;  // 0 at the malleolus, 1 at the sole
-      // Front reach follows the instep down to the toes' wall; the heel rounds off at the bottom.
+      // Front reach follows the instep down to the toes' wall.
       const double front = std::lerp(z_ank + m.bf, z_wall, instep(f)) - (f <= kFootLevels[kFootBreadthRing] ? 0.003 * fl / 0.26 : 0.0);
-      const double back = std::lerp(z_ank - m.bb, P.heel_z, std::pow(u, 0.6));
+      const double back = heel_profile(f, z_ank - m.bb, P.heel_z, fl);
       const double ball = 0.7;
       const double cz = back + std::lerp(0.5, ball, std::pow(u, 1.5)) * (front - back);
       LegRing r;
@@ -1305,7 +1343,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       if (static_cast<int>(i) == kFootBreadthRing) {  // exact breadth and length on this ring
         r.al = r.am = fb / 2;
         const double c0 = P.heel_z + ball * fl;
-        r.zc = c0; r.bf = front - c0; r.bb = c0 - P.heel_z;
+        r.zc = c0; r.bf = front - c0; r.bb = c0 - back;
       }
       P.leg[static_cast<size_t>(kf0 + static_cast<int>(i))] = r;
     }
@@ -1733,14 +1771,14 @@ void add_landmarks(Builder& B) {
     L["head_side" + s] = T(kGlabella, J(16));
     const auto& G = B.leg[static_cast<size_t>(sd)];
     auto leg = [&](int ring, int k) { return G[static_cast<size_t>(ring)][static_cast<size_t>(k)]; };
-    const int fb = leg_key_ring(kMalleolus) + 1 + kFootBreadthRing;
+    const int fb = leg_key_ring(kMalleolus) + 1 + kFootBreadthRing, fh = leg_key_ring(kMalleolus) + 1 + kHeelRing;
     L["thigh" + s] = leg(leg_key_ring(kThigh), kLegLateral);
     L["lower_thigh" + s] = leg(leg_key_ring(kLowerThigh), kLegLateral);
     L["knee" + s] = leg(leg_key_ring(kKnee), kLegFront);
     L["calf" + s] = leg(leg_key_ring(kCalf), kLegBack);
     L["ankle" + s] = leg(leg_key_ring(kAnkle), kLegLateral);
     L["lateral_malleolus" + s] = leg(leg_key_ring(kMalleolus), kLegLateral);
-    L["heel" + s] = leg(fb, kLegBack);
+    L["heel" + s] = leg(fh, kLegBack);
     L["toe" + s] = B.toe_pole[static_cast<size_t>(sd)][0];
     L["foot_lateral" + s] = leg(fb, kLegLateral);
     L["foot_medial" + s] = leg(fb, kLegMedial);
@@ -2258,7 +2296,9 @@ void fair(std::vector<Vec3>& v, double hole_bottom_share) {
 //    along the spine, a navel beside the omphalion); on girth-only sections (neck, head; thigh,
 //    lower thigh, calf, ankle), whose every vertex is on the hull, nothing moves;
 //  * around the waist the spine groove is paired with the erector muscles beside it, which rise
-//    at most to the ring's own back extreme, so the waist's depth is unchanged.
+//    at most to the ring's own back extreme, so the waist's depth is unchanged;
+//  * the groin's filling (fill_groin) moves vertices outward only strictly between the thigh's
+//    girth ring and the hip ring.
 // Before the relief, flat ring panels are re-spaced along their own polyline
 // (respace_torso_columns), so the features have vertices to move.
 // The left half is computed and mirrored, so bodies stay exactly symmetric.
@@ -2421,6 +2461,58 @@ void respace_torso_columns(Builder& B, const std::set<int>& pinned, const HeadFr
   }
 }
 
+// The groin, filled outside its fold. Where the belly's lowest rings hug the thighs they fell up
+// to 8 mm behind the thigh's front below them and the hip ring above (the thigh is a round tube,
+// the torso's rings one superellipse round both): a level groove across the front, the hem of a
+// pair of shorts. Outward of the groin's fold line (fold_x(y): its distance from the midline at
+// height y), their front comes forward to the straight line between the thigh's girth ring and
+// the hip ring (neither moves; at most 1 cm); inward of it the lower belly keeps its fold, which
+// so runs up and out along the groin, as a real one does. Adds to D (torso grid T, left leg L;
+// v0 the surface and N its ring normals before the relief).
+void fill_groin(const BodyPlan& P, const Grid& T, const Grid& L, const std::vector<Vec3>& v0, const std::vector<Vec3>& N,
+                double y_hip, double cm, const std::function<double(double)>& fold_x, std::vector<double>& D) {
+  const int kh = torso_key_ring(kHip), kth = leg_key_ring(kThigh);
+  const double y_th = P.leg[static_cast<size_t>(kth)].y;
+  // A ring's front half as z over x (x increasing), and z at x on it (NaN beyond its ends).
+  auto front_half = [&](const std::vector<int>& ids) {
+    std::vector<Eigen::Vector2d> q;
+    for (int id : ids) q.emplace_back(v0[static_cast<size_t>(id)].x(), v0[static_cast<size_t>(id)].z());
+    std::sort(q.begin(), q.end(), [](const auto& a, const auto& b) { return a.x() < b.x(); });
+    return q;
+  };
+  auto z_at = [](const std::vector<Eigen::Vector2d>& q, double x) {
+    if (q.size() < 2 || x < q.front().x() || x > q.back().x()) return std::numeric_limits<double>::quiet_NaN();
+    const auto hi = std::lower_bound(q.begin(), q.end(), x, [](const auto& a, double at) { return a.x() < at; });
+    if (hi == q.begin()) return hi->y();
+    const auto lo = hi - 1;
+    return std::lerp(lo->y(), hi->y(), (x - lo->x()) / std::max(1e-12, hi->x() - lo->x()));
+  };
+  std::vector<int> thigh_ids, hip_ids;
+  for (int k = 0; k < kLegN; ++k)
+    if (std::cos(leg_angle(k)) > 0) thigh_ids.push_back(L.id(kth, k));
+  for (int j = 0; j < kTorsoN / 4; ++j) hip_ids.push_back(T.id(kh, j));
+  const auto thigh = front_half(thigh_ids), hip = front_half(hip_ids);
+  auto fill = [&](int id, double c, double share) {
+    const Vec3& p = v0[static_cast<size_t>(id)];
+    if (c <= 0.2 || p.y() <= y_th || p.y() >= y_hip) return;
+    const double zt = z_at(thigh, p.x()), zh = z_at(hip, p.x());
+    if (std::isnan(zt) || std::isnan(zh)) return;
+    const double gap = std::lerp(zt, zh, (p.y() - y_th) / (y_hip - y_th)) - p.z();
+    const double x_fold = fold_x(p.y());
+    if (gap > 0 && N[static_cast<size_t>(id)].z() > 0)
+      D[static_cast<size_t>(id)] += share * smoothstep(0.2, 0.5, c) * smoothstep(x_fold - 1.0 * cm, x_fold + 4.0 * cm, p.x()) *
+                                    std::min(gap, 1.0 * cm);
+  };
+  for (int k = 0; k < kh; ++k)
+    for (int j = 0; j < kTorsoN / 4; ++j)
+      if (T.id(k, j) >= 0) fill(T.id(k, j), std::cos(2 * kPi * j / kTorsoN), 1.0);
+  // On the thigh's first ring, only its outer half: moved beside the crotch bridge, its inner
+  // front folded against the bridge's top (123° on one man, from 112°).
+  for (int r = 1; r < kth; ++r)
+    for (int k = 0; k < kLegN; ++k)
+      if (L.id(r, k) >= 0) fill(L.id(r, k), std::cos(leg_angle(k)), smoothstep(-0.1, 0.4, std::sin(leg_angle(k))));
+}
+
 void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const bool female = sex == Sex::Female;
   const double fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
@@ -2448,6 +2540,11 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const double y_ax = ring_y(kAxilla), y_s2 = ring_y(kShoulder2);
   const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
   const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
+  // The groin's fold: from the thigh's inner front beside the crotch up and out to the iliac
+  // crest's front.
+  const LegRing& thigh_ring = P.leg[static_cast<size_t>(leg_key_ring(kThigh))];
+  const Eigen::Vector2d groin0(thigh_ring.xc - 0.5 * thigh_ring.am, P.crotch_y + 1.0 * cm), groin1(0.78 * a_hip, y_hip + 0.45 * (y_w - y_hip));
+  auto groin_fold_x = [&](double y) { return std::lerp(groin0.x(), groin1.x(), std::clamp((y - groin0.y()) / (groin1.y() - groin0.y()), 0.0, 1.0)); };
 
   // -- Torso, neck and head (left half, j = 0..32).
   const Grid T{&B.torso};
@@ -2587,6 +2684,15 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           const double ry = 0.3 * (y_w - y_hip);
           h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - 0.78 * a_hip, y - (y_hip + 0.45 * (y_w - y_hip)), 2.5 * cm, ry);
         }
+        // The groin: the fold where the thigh's front meets the lower belly, from beside the crotch
+        // up and out toward the iliac crest's front. Without it the belly ended in a level line
+        // across both thighs, the hem of a pair of shorts.
+        {
+          const Eigen::Vector2d e = groin1 - groin0, q(x, y), p0 = groin0;
+          const double u = std::clamp((q - p0).dot(e) / e.squaredNorm(), 0.0, 1.0);
+          const double dist = (q - (p0 + u * e)).norm();
+          h -= front * std::lerp(0.5, 0.4, fem) * cm * window(u, 0.0, 0.3, 0.75, 1.0) * blob(dist, 0, 2.0 * cm, 1);
+        }
         // Navel: a dimple just under the omphalion (which keeps its place and depth).
         h -= front * 0.45 * cm * blob(x, y - (y_w - 0.9 * cm), 1.6 * cm, 1.0 * cm);
       }
@@ -2659,11 +2765,21 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       h += fr * 0.50 * cm * blob(xl, y - (y_kn + 0.6 * cm), 2.8 * cm, 4.5 * cm);
       h -= fr * 0.30 * cm * (blob(xl - 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm) +
                              blob(xl + 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm));
+      // The inner thigh's teardrop (vastus medialis) over the knee's inner side, and the hollow
+      // behind the knee between the hamstrings' tendons. Both stay between the knee ring and the
+      // lower thigh's girth ring above it.
+      h += smoothstep(0.2, 0.8, -s) * smoothstep(-0.4, 0.3, c) * 0.45 * cm * blob(0, y - (y_kn + 5.0 * cm), 1, 4.0 * cm);
+      h -= smoothstep(0.5, 0.9, -c) * 0.45 * cm * blob(xl, y - (y_kn + 1.0 * cm), 3.0 * cm, 4.5 * cm);
+      // The hollows either side of the Achilles tendon, behind the malleoli.
+      const double beside_tendon = std::exp(-sq((std::abs(std::remainder(phi, 2 * kPi)) - (kPi - 0.75)) / 0.3));
+      h -= beside_tendon * 0.35 * cm * blob(0, y - y_ml, 1, 3.5 * cm);
       // Malleoli: the lateral one lower and further back than the medial one.
       h += smoothstep(0.5, 0.9, s) * 0.40 * cm * blob(zl + 0.3 * cm, y - (y_ml + 0.6 * cm), 2.2 * cm, 2.2 * cm);
       h += smoothstep(0.5, 0.9, -s) * 0.35 * cm * blob(zl - 0.3 * cm, y - (y_ml + 1.4 * cm), 2.2 * cm, 2.2 * cm);
       D[static_cast<size_t>(id)] = h;
     }
+
+  fill_groin(P, T, L, v0, N, y_hip, cm, groin_fold_x, D);
 
   // -- Arms (left arm, T-posed along +X): the deltoid's cap. Over the shoulder's outside the
   // arm's rings ran straight on from the torso's slope, a doll's square shoulder. The muscle

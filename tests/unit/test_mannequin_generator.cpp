@@ -62,6 +62,21 @@ double extreme_z(const std::vector<Eigen::Vector3d>& pts, double x0, double half
     if (std::abs(p.x() - x0) <= half) best = std::max(best, sign * p.z());
   return sign * best;
 }
+// The front-most (sign +1) or back-most (−1) z of the section y = h at exactly x: where the plane
+// cuts each triangle in a segment spanning x, interpolated along it (-1e9 · sign where none does).
+double section_z_at(const Vertices& v, const Faces& f, double h, double x, int sign) {
+  double best = -1e9;
+  for (Eigen::Index i = 0; i < f.rows(); ++i) {
+    std::vector<Eigen::Vector3d> seg;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d a = v.row(f(i, c)).transpose(), b = v.row(f(i, (c + 1) % 3)).transpose();
+      if ((a.y() - h) * (b.y() - h) < 0) seg.push_back(a + (b - a) * ((h - a.y()) / (b.y() - a.y())));
+    }
+    if (seg.size() != 2 || (seg[0].x() - x) * (seg[1].x() - x) > 0 || seg[0].x() == seg[1].x()) continue;
+    best = std::max(best, sign * std::lerp(seg[0].z(), seg[1].z(), (x - seg[0].x()) / (seg[1].x() - seg[0].x())));
+  }
+  return sign * best;
+}
 // The section's largest x among points in front of / behind z0 by at most `half`.
 double extreme_x(const std::vector<Eigen::Vector3d>& pts, double z0, double half, double x_min) {
   double best = -1e9;
@@ -160,6 +175,60 @@ std::vector<std::string> relief_failures(const BodyModel& model, const Vertices&
     auto side = [&](double dy) { return extreme_x(cut(v, f, m.y() + dy), m.z(), 1.0 * cm, 0); };
     const double bump = side(0) - 0.5 * (side(2.5 * cm) + side(-2.0 * cm));
     check(bump >= 0.2 * cm, "lateral malleolus", bump);
+  }
+  // The lower leg from the front (left leg, x > 0). The calf's inner head bulges past the knee's
+  // inner side, and below it the leg narrows early: halfway down to the ankle it is narrower than
+  // the mean of the calf's and the ankle's widths. A lofted leg before 2026-11-28 ran from the knee
+  // to the ankle as a cone: its calf reached at most 1 mm past the knee, and its mid-shin was wider
+  // than that mean.
+  {
+    auto span = [&](double y) {
+      std::pair<double, double> lo_hi{1e9, -1e9};
+      for (const auto& p : cut(v, f, y))
+        if (p.x() > 0) lo_hi = {std::min(lo_hi.first, p.x()), std::max(lo_hi.second, p.x())};
+      return lo_hi;
+    };
+    auto width = [&](double y) { return span(y).second - span(y).first; };
+    const double y_knee = at("knee_left").y(), y_calf = at("calf_left").y(), y_ankle = at("ankle_left").y();
+    const double inner = span(y_knee).first - span(y_calf).first;
+    check(inner >= 0.15 * cm, "calf's inner side beyond the knee's", inner);
+    const double narrowing = 0.5 * (width(y_calf) + width(y_ankle)) - width(0.5 * (y_calf + y_ankle));
+    check(narrowing >= 0.2 * cm, "shin narrows early below the calf", narrowing);
+  }
+  // The heel: its fullest back stands above the sole (the heel landmark, ≥ 1 cm up) and it rounds
+  // forward into the sole (2 mm above the floor the foot's back is ≥ 5 mm in front of it). The
+  // heel before 2026-11-28 fell straight to a sole edge, a boot's heel.
+  {
+    const Eigen::Vector3d h = at("heel_left");
+    check(h.y() >= 1.0 * cm, "heel's fullest back above the sole", h.y());
+    double back = 1e9;
+    for (const auto& p : cut(v, f, 0.002))
+      if (p.x() > 0) back = std::min(back, p.z());
+    check(back - h.z() >= 0.5 * cm, "heel rounds into the sole", back - h.z());
+  }
+  // The groin: no level groove across the thigh's front where the belly's lowest rings meet it.
+  // Outward of the thigh's centre, going up from the thigh's girth level to 4 cm above the crotch,
+  // the front never lies more than 2.5 mm behind both a point below it and a point above it (the
+  // water the profile would hold; a heavy belly overhanging above holds none). Before 2026-11-28
+  // the belly's lowest rings held 3 mm on the median checked body and up to 6.5 mm: the hem of a
+  // pair of shorts.
+  {
+    const Eigen::Vector3d out_side = at("thigh_left");
+    double in_side = 1e9;
+    for (const auto& p : cut(v, f, out_side.y()))
+      if (p.x() > 0) in_side = std::min(in_side, p.x());
+    const double centre = 0.5 * (in_side + out_side.x()), x = centre + 0.4 * (out_side.x() - centre);
+    std::vector<double> z;  // the front, every 2.5 mm up (levels with no surface at x left out)
+    for (double y = out_side.y(); y <= at("crotch").y() + 4 * cm; y += 0.25 * cm) {
+      const double front = section_z_at(v, f, y, x, +1);
+      if (front > -1e8) z.push_back(front);
+    }
+    std::vector<double> below(z.size()), above(z.size());
+    for (size_t i = 0; i < z.size(); ++i) below[i] = std::max(z[i], i > 0 ? below[i - 1] : z[i]);
+    for (size_t i = z.size(); i-- > 0;) above[i] = std::max(z[i], i + 1 < z.size() ? above[i + 1] : z[i]);
+    double groove = 0;
+    for (size_t i = 0; i < z.size(); ++i) groove = std::max(groove, std::min(below[i], above[i]) - z[i]);
+    check(groove <= 0.25 * cm, "no groove across the thigh's front under the belly", groove);
   }
   return out;
 }
