@@ -116,7 +116,10 @@ enum LegKey { kLegTop, kThigh, kLowerThigh, kKnee, kCalf, kAnkle, kMalleolus, kL
 constexpr std::array<int, kLegKeyCount - 1> kLegIntervals = {1, 8, 3, 5, 7, 2};
 constexpr std::array<double, 7> kFootLevels = {0.78, 0.58, 0.42, 0.29, 0.18, 0.09, 0.035};  // × malleolus height
 constexpr int kFootBreadthRing = 6;  // index into foot rings (+ the sole ring after them)
-constexpr int kHeelRing = 3;  // index into foot rings: the heel's fullest back (the heel landmark)
+// Index into foot rings: the heel's fullest back, which carries the heel landmark (the foot length
+// is taken from it). It is also the toes' holes' top ring, whose front the toes' wall rewrites
+// (plan_body()); that keeps each ring's back, so the heel stays where heel_profile() puts it.
+constexpr int kHeelRing = 3;
 // Toes, big toe (medial) to little toe: tubes grown like the thumb from holes in the forefoot's
 // front. Each hole spans foot rings kToeRing .. kToeRing + 2 (one interior ring, whose vertex at
 // the toe's column is left out) and the columns beside its own; neighbouring holes share those.
@@ -345,8 +348,9 @@ struct LegRing {
   // Feet only: how far (0–1) the front columns are re-spaced for the toes (foot_angles()).
   double toe_spacing = 0;
 };
-// The calf's bulge behind the shin, as a share of LegRing::calf: the gastrocnemius' two heads,
-// the inner one the fuller, either side of a shallow furrow at the back (phi = π).
+// The calf's bulge behind the shin, as a share of LegRing::calf: the gastrocnemius' two heads
+// either side of the back (phi = π), the inner one the fuller, so the calf's fullest back lies
+// toward its inner side (one bump at the back centred it).
 double calf_heads(double phi) {
   auto head = [phi](double centre) { return std::exp(-sq(std::remainder(phi - centre, 2 * kPi) / 0.62)); };
   return 1.15 * head(-(kPi - 0.55)) + 0.85 * head(kPi - 0.55);
@@ -393,14 +397,16 @@ std::array<double, kLegN> foot_angles(const LegRing& r) {
 }
 
 // Below the calf ring the calf's muscle bellies end about halfway down to the ankle and the leg
-// goes on narrow, over the tendons: the section's size falls from the calf's to the ankle's
-// early, with no slope at either ring (g(u) = (1 − u)^2.5 (1 + 2.5 u)), where a smooth curve
-// through the rings alone drew a cone from the calf to the ankle. u: 0 at the calf, 1 at the ankle.
+// goes on narrow, over the tendons: the section's size falls from the calf's toward the ankle's
+// earlier than the smooth curve through the rings, which drew a cone. The ring r (interpolated by
+// that curve) takes on, of the difference between calf and ankle, the share by which
+// g(u) = (1 − u)^2.5 (1 + 2.5 u) falls below the cubic 1 − 3u² + 2u³: both are flat at either ring,
+// so the curve's own slopes carry through them. u: 0 at the calf, 1 at the ankle.
 void shin_taper(LegRing& r, const LegRing& calf, const LegRing& ankle, double u) {
-  const double g = std::pow(1 - u, 2.5) * (1 + 2.5 * u);
-  auto mix = [g](double at_calf, double at_ankle) { return at_ankle + (at_calf - at_ankle) * g; };
-  r.al = mix(calf.al, ankle.al); r.am = mix(calf.am, ankle.am);
-  r.bf = mix(calf.bf, ankle.bf); r.bb = mix(calf.bb, ankle.bb); r.calf = mix(calf.calf, ankle.calf);
+  const double early = std::pow(1 - u, 2.5) * (1 + 2.5 * u) - (1 - 3 * u * u + 2 * u * u * u);
+  auto taper = [early](double& v, double at_calf, double at_ankle) { v += early * (at_calf - at_ankle); };
+  taper(r.al, calf.al, ankle.al); taper(r.am, calf.am, ankle.am);
+  taper(r.bf, calf.bf, ankle.bf); taper(r.bb, calf.bb, ankle.bb); taper(r.calf, calf.calf, ankle.calf);
 }
 
 // Uniform scale about the centre so the (convex) ring's hull perimeter is c.
@@ -730,8 +736,9 @@ void plan_digits(const Dims& d, const ArmRing& knuckle, const ArmRing& web, Body
 }
 
 // The back of the foot in profile, at f × the malleolus' height: from the Achilles tendon's back
-// (achilles, at the malleolus) down a concave curve to the heel bone's fullest back (heel_z, at
-// ring kHeelRing), then rounding forward into the sole as a heel does. Falling straight to a sole
+// (achilles, at the malleolus) down an S-curve (hollow under the tendon, full over the heel bone)
+// to the heel bone's fullest back (heel_z, at ring kHeelRing), then rounding forward into the sole
+// as a heel does. Falling straight to a sole
 // edge at heel_z, it stood square from behind and beside, a boot's heel.
 double heel_profile(double f, double achilles, double heel_z, double foot_length) {
   const double f_heel = kFootLevels[kHeelRing];
@@ -741,8 +748,9 @@ double heel_profile(double f, double achilles, double heel_z, double foot_length
 
 // The toes of the left foot, grown by build() from their holes in the foot's front (ANSUR has only
 // foot length and breadth: the rest are typical proportions). The big toe's tip is the foot
-// length's end, level with the heel landmark's ring as far as the toe's own height allows: its
-// distance from the heel is exactly the foot length.
+// length's end, as low as the toe's own height allows: its straight distance from the heel
+// landmark (on ring kHeelRing, about 1.8 cm up) is exactly the foot length, its distance along the
+// floor about 0.4 mm less on a typical foot.
 void plan_toes(const Dims& d, BodyPlan& P) {
   const int kf0 = leg_key_ring(kMalleolus) + 1;
   auto ring = [&](int i) -> const LegRing& { return P.leg[static_cast<size_t>(kf0 + i)]; };
@@ -1189,7 +1197,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       // Centred under the middle of the hip section (buttocks protrude behind, not the thighs).
       r.zc = K[kHip].cz + (hip_front - 0.5) * d.bd;
     }
-    // medial: how much further the ring reaches on its inner side than on its outer (a share).
+    // medial: the inner half-breadth is 1 + medial, the outer 1 − medial (shares, before the fit).
     auto make = [&](LegRing& r, double c, double xc, double zc, double depth_ratio, double calf, double medial = 0) {
       r.al = 1 - medial; r.am = 1 + medial; r.bf = depth_ratio; r.bb = depth_ratio; r.p = 2.2; r.calf = calf;
       fit_leg_circumference(r, c);
@@ -1340,7 +1348,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
         r.y = 0;
         r.al -= 0.004; r.am -= 0.004; r.bf -= 0.006; r.bb -= 0.006;
       }
-      if (static_cast<int>(i) == kFootBreadthRing) {  // exact breadth and length on this ring
+      if (static_cast<int>(i) == kFootBreadthRing) {  // exact breadth on this ring (the ball)
         r.al = r.am = fb / 2;
         const double c0 = P.heel_z + ball * fl;
         r.zc = c0; r.bf = front - c0; r.bb = c0 - back;
@@ -2298,7 +2306,9 @@ void fair(std::vector<Vec3>& v, double hole_bottom_share) {
 //  * around the waist the spine groove is paired with the erector muscles beside it, which rise
 //    at most to the ring's own back extreme, so the waist's depth is unchanged;
 //  * the groin's filling (fill_groin) moves vertices outward only strictly between the thigh's
-//    girth ring and the hip ring.
+//    girth ring and the hip ring;
+//  * one exception: the groin's fold crosses the hip ring's section, and its groove shortens that
+//    section's hull (the buttock girth) by up to 1.1 mm, under the 1 % tolerance.
 // Before the relief, flat ring panels are re-spaced along their own polyline
 // (respace_torso_columns), so the features have vertices to move.
 // The left half is computed and mirrored, so bodies stay exactly symmetric.
@@ -2473,8 +2483,8 @@ void fill_groin(const BodyPlan& P, const Grid& T, const Grid& L, const std::vect
                 double y_hip, double cm, const std::function<double(double)>& fold_x, std::vector<double>& D) {
   const int kh = torso_key_ring(kHip), kth = leg_key_ring(kThigh);
   const double y_th = P.leg[static_cast<size_t>(kth)].y;
-  // A ring's front half as z over x (x increasing), and z at x on it (NaN beyond its ends).
-  auto front_half = [&](const std::vector<int>& ids) {
+  // A ring's points as z over x (x increasing), and z at x on them (NaN beyond their ends).
+  auto sorted_by_x = [&](const std::vector<int>& ids) {
     std::vector<Eigen::Vector2d> q;
     for (int id : ids) q.emplace_back(v0[static_cast<size_t>(id)].x(), v0[static_cast<size_t>(id)].z());
     std::sort(q.begin(), q.end(), [](const auto& a, const auto& b) { return a.x() < b.x(); });
@@ -2490,8 +2500,9 @@ void fill_groin(const BodyPlan& P, const Grid& T, const Grid& L, const std::vect
   std::vector<int> thigh_ids, hip_ids;
   for (int k = 0; k < kLegN; ++k)
     if (std::cos(leg_angle(k)) > 0) thigh_ids.push_back(L.id(kth, k));
-  for (int j = 0; j < kTorsoN / 4; ++j) hip_ids.push_back(T.id(kh, j));
-  const auto thigh = front_half(thigh_ids), hip = front_half(hip_ids);
+  for (int j = 0; j < kTorsoN / 4; ++j)
+    if (T.id(kh, j) >= 0) hip_ids.push_back(T.id(kh, j));
+  const auto thigh = sorted_by_x(thigh_ids), hip = sorted_by_x(hip_ids);  // their front halves
   auto fill = [&](int id, double c, double share) {
     const Vec3& p = v0[static_cast<size_t>(id)];
     if (c <= 0.2 || p.y() <= y_th || p.y() >= y_hip) return;
@@ -2540,10 +2551,11 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const double y_ax = ring_y(kAxilla), y_s2 = ring_y(kShoulder2);
   const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
   const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
-  // The groin's fold: from the thigh's inner front beside the crotch up and out to the iliac
-  // crest's front.
+  // The iliac crest's front (its anterior spine), (x, y); and the groin's fold, from the thigh's
+  // inner front beside the crotch up and out to it.
+  const Eigen::Vector2d iliac_front(0.78 * a_hip, y_hip + 0.45 * (y_w - y_hip));
   const LegRing& thigh_ring = P.leg[static_cast<size_t>(leg_key_ring(kThigh))];
-  const Eigen::Vector2d groin0(thigh_ring.xc - 0.5 * thigh_ring.am, P.crotch_y + 1.0 * cm), groin1(0.78 * a_hip, y_hip + 0.45 * (y_w - y_hip));
+  const Eigen::Vector2d groin0(thigh_ring.xc - 0.5 * thigh_ring.am, P.crotch_y + 1.0 * cm), groin1 = iliac_front;
   auto groin_fold_x = [&](double y) { return std::lerp(groin0.x(), groin1.x(), std::clamp((y - groin0.y()) / (groin1.y() - groin0.y()), 0.0, 1.0)); };
 
   // -- Torso, neck and head (left half, j = 0..32).
@@ -2682,15 +2694,15 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // The front of the iliac crest (its anterior spine), between the hip and waist sections.
         {
           const double ry = 0.3 * (y_w - y_hip);
-          h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - 0.78 * a_hip, y - (y_hip + 0.45 * (y_w - y_hip)), 2.5 * cm, ry);
+          h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - iliac_front.x(), y - iliac_front.y(), 2.5 * cm, ry);
         }
         // The groin: the fold where the thigh's front meets the lower belly, from beside the crotch
         // up and out toward the iliac crest's front. Without it the belly ended in a level line
         // across both thighs, the hem of a pair of shorts.
         {
-          const Eigen::Vector2d e = groin1 - groin0, q(x, y), p0 = groin0;
-          const double u = std::clamp((q - p0).dot(e) / e.squaredNorm(), 0.0, 1.0);
-          const double dist = (q - (p0 + u * e)).norm();
+          const Eigen::Vector2d e = groin1 - groin0, q(x, y);
+          const double u = std::clamp((q - groin0).dot(e) / e.squaredNorm(), 0.0, 1.0);
+          const double dist = (q - (groin0 + u * e)).norm();
           h -= front * std::lerp(0.5, 0.4, fem) * cm * window(u, 0.0, 0.3, 0.75, 1.0) * blob(dist, 0, 2.0 * cm, 1);
         }
         // Navel: a dimple just under the omphalion (which keeps its place and depth).
@@ -2765,9 +2777,9 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       h += fr * 0.50 * cm * blob(xl, y - (y_kn + 0.6 * cm), 2.8 * cm, 4.5 * cm);
       h -= fr * 0.30 * cm * (blob(xl - 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm) +
                              blob(xl + 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm));
-      // The inner thigh's teardrop (vastus medialis) over the knee's inner side, and the hollow
-      // behind the knee between the hamstrings' tendons. Both stay between the knee ring and the
-      // lower thigh's girth ring above it.
+      // The inner thigh's teardrop (vastus medialis) over the knee's inner side, between the knee
+      // ring and the lower thigh's girth ring above it; the hollow behind the knee between the
+      // hamstrings' tendons, centred 1 cm above the knee ring and ending below that girth ring.
       h += smoothstep(0.2, 0.8, -s) * smoothstep(-0.4, 0.3, c) * 0.45 * cm * blob(0, y - (y_kn + 5.0 * cm), 1, 4.0 * cm);
       h -= smoothstep(0.5, 0.9, -c) * 0.45 * cm * blob(xl, y - (y_kn + 1.0 * cm), 3.0 * cm, 4.5 * cm);
       // The hollows either side of the Achilles tendon, behind the malleoli.

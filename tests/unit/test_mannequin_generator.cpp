@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <optional>
 
 #include "caliper/body/crease.h"
 #include "caliper/body/mesh.h"
@@ -63,13 +65,15 @@ double extreme_z(const std::vector<Eigen::Vector3d>& pts, double x0, double half
   return sign * best;
 }
 // The front-most (sign +1) or back-most (−1) z of the section y = h at exactly x: where the plane
-// cuts each triangle in a segment spanning x, interpolated along it (-1e9 · sign where none does).
+// cuts each triangle in a segment spanning x (through its vertices on the plane, or across its
+// edges), interpolated along it (-1e9 · sign where none does).
 double section_z_at(const Vertices& v, const Faces& f, double h, double x, int sign) {
   double best = -1e9;
   for (Eigen::Index i = 0; i < f.rows(); ++i) {
     std::vector<Eigen::Vector3d> seg;
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector3d a = v.row(f(i, c)).transpose(), b = v.row(f(i, (c + 1) % 3)).transpose();
+      if (a.y() == h) seg.push_back(a);
       if ((a.y() - h) * (b.y() - h) < 0) seg.push_back(a + (b - a) * ((h - a.y()) / (b.y() - a.y())));
     }
     if (seg.size() != 2 || (seg[0].x() - x) * (seg[1].x() - x) > 0 || seg[0].x() == seg[1].x()) continue;
@@ -83,6 +87,79 @@ double extreme_x(const std::vector<Eigen::Vector3d>& pts, double z0, double half
   for (const auto& p : pts)
     if (std::abs(p.z() - z0) <= half && p.x() >= x_min) best = std::max(best, p.x());
   return best;
+}
+
+// A landmark's position, and a check that records a failure with its value (relief_failures()).
+using LandmarkAt = std::function<Eigen::Vector3d(const char*)>;
+using Check = std::function<void(bool, const std::string&, double)>;
+
+// The left leg's (x > 0) inner and outer x on the section y = h; nullopt where it has none.
+std::optional<std::pair<double, double>> left_leg_span(const Vertices& v, const Faces& f, double h) {
+  std::optional<std::pair<double, double>> span;
+  for (const auto& p : cut(v, f, h))
+    if (p.x() > 0) span = span ? std::pair{std::min(span->first, p.x()), std::max(span->second, p.x())} : std::pair{p.x(), p.x()};
+  return span;
+}
+
+// The lower leg from the front. The calf's inner head bulges past the knee's inner side, and
+// below it the leg narrows early: halfway down to the ankle it is narrower than the mean of the
+// calf's and the ankle's widths. A lofted leg before 2026-11-28 ran from the knee to the ankle as
+// a cone: its calf reached at most 1 mm past the knee, and its mid-shin was wider than that mean.
+void lower_leg_failures(const Vertices& v, const Faces& f, const LandmarkAt& at, double cm, const Check& check) {
+  const double y_knee = at("knee_left").y(), y_calf = at("calf_left").y(), y_ankle = at("ankle_left").y();
+  const auto knee = left_leg_span(v, f, y_knee), calf = left_leg_span(v, f, y_calf), ankle = left_leg_span(v, f, y_ankle),
+             shin = left_leg_span(v, f, 0.5 * (y_calf + y_ankle));
+  if (!knee || !calf || !ankle || !shin) return check(false, "lower leg: a section missed the leg", 0.0);
+  auto width = [](const std::pair<double, double>& s) { return s.second - s.first; };
+  const double inner = knee->first - calf->first;
+  check(inner >= 0.15 * cm, "calf's inner side beyond the knee's", inner);
+  const double narrowing = 0.5 * (width(*calf) + width(*ankle)) - width(*shin);
+  check(narrowing >= 0.2 * cm, "shin narrows early below the calf", narrowing);
+}
+
+// The heel: the heel landmark is the foot's back-most point (the foot length is taken from it);
+// it stands above the sole (≥ 1 cm up) and the heel rounds forward into the sole (2 mm above the
+// floor, per 1.70 m, the foot's back is ≥ 5 mm in front of it). The heel before 2026-11-28 fell
+// straight to a sole edge, a boot's heel.
+void heel_failures(const Vertices& v, const Faces& f, const LandmarkAt& at, double cm, const Check& check) {
+  const Eigen::Vector3d h = at("heel_left");
+  double foot_back = 1e9;
+  for (Eigen::Index i = 0; i < v.rows(); ++i)
+    if (v(i, 0) > 0 && v(i, 1) < at("lateral_malleolus_left").y()) foot_back = std::min(foot_back, v(i, 2));
+  check(foot_back >= h.z() - 1e-4, "heel landmark at the foot's back", h.z() - foot_back);
+  check(h.y() >= 1.0 * cm, "heel's fullest back above the sole", h.y());
+  double back = 1e9;
+  for (const auto& p : cut(v, f, 0.2 * cm))
+    if (p.x() > 0) back = std::min(back, p.z());
+  if (back > 1e8) return check(false, "heel: no section 2 mm above the floor", 0.0);
+  check(back - h.z() >= 0.5 * cm, "heel rounds into the sole", back - h.z());
+}
+
+// The groin: no level groove across the thigh's front where the belly's lowest rings meet it.
+// Outward of the thigh's centre, going up from the thigh's girth level to 4 cm above the crotch,
+// the front never lies more than 2.5 mm behind both a point below it and a point above it (the
+// water the profile would hold; a heavy belly overhanging above holds none). Before 2026-11-28
+// the belly's lowest rings held 3 mm on the median checked body and up to 6.5 mm: the hem of a
+// pair of shorts.
+void groin_failures(const Vertices& v, const Faces& f, const LandmarkAt& at, double cm, const Check& check) {
+  const Eigen::Vector3d out_side = at("thigh_left");
+  const auto thigh = left_leg_span(v, f, out_side.y());
+  if (!thigh) return check(false, "groin: no thigh section", 0.0);
+  const double centre = 0.5 * (thigh->first + out_side.x()), x = centre + 0.4 * (out_side.x() - centre);
+  std::vector<double> z;  // the front, every 2.5 mm up (levels with no surface at x left out)
+  int levels = 0;
+  for (double y = out_side.y(); y <= at("crotch").y() + 4 * cm; y += 0.25 * cm, ++levels) {
+    const double front = section_z_at(v, f, y, x, +1);
+    if (front > -1e8) z.push_back(front);
+  }
+  const size_t missed = static_cast<size_t>(levels) - z.size();
+  if (10 * missed > static_cast<size_t>(levels)) return check(false, "groin: the front missed at " + std::to_string(missed) + " levels", 0.0);
+  std::vector<double> below(z.size()), above(z.size());
+  for (size_t i = 0; i < z.size(); ++i) below[i] = std::max(z[i], i > 0 ? below[i - 1] : z[i]);
+  for (size_t i = z.size(); i-- > 0;) above[i] = std::max(z[i], i + 1 < z.size() ? above[i + 1] : z[i]);
+  double groove = 0;
+  for (size_t i = 0; i < z.size(); ++i) groove = std::max(groove, std::min(below[i], above[i]) - z[i]);
+  check(groove <= 0.25 * cm, "no groove across the thigh's front under the belly", groove);
 }
 
 // The relief (generator.cpp, sculpt()) carries a face, a spine, kneecaps and malleoli, measured
@@ -176,60 +253,9 @@ std::vector<std::string> relief_failures(const BodyModel& model, const Vertices&
     const double bump = side(0) - 0.5 * (side(2.5 * cm) + side(-2.0 * cm));
     check(bump >= 0.2 * cm, "lateral malleolus", bump);
   }
-  // The lower leg from the front (left leg, x > 0). The calf's inner head bulges past the knee's
-  // inner side, and below it the leg narrows early: halfway down to the ankle it is narrower than
-  // the mean of the calf's and the ankle's widths. A lofted leg before 2026-11-28 ran from the knee
-  // to the ankle as a cone: its calf reached at most 1 mm past the knee, and its mid-shin was wider
-  // than that mean.
-  {
-    auto span = [&](double y) {
-      std::pair<double, double> lo_hi{1e9, -1e9};
-      for (const auto& p : cut(v, f, y))
-        if (p.x() > 0) lo_hi = {std::min(lo_hi.first, p.x()), std::max(lo_hi.second, p.x())};
-      return lo_hi;
-    };
-    auto width = [&](double y) { return span(y).second - span(y).first; };
-    const double y_knee = at("knee_left").y(), y_calf = at("calf_left").y(), y_ankle = at("ankle_left").y();
-    const double inner = span(y_knee).first - span(y_calf).first;
-    check(inner >= 0.15 * cm, "calf's inner side beyond the knee's", inner);
-    const double narrowing = 0.5 * (width(y_calf) + width(y_ankle)) - width(0.5 * (y_calf + y_ankle));
-    check(narrowing >= 0.2 * cm, "shin narrows early below the calf", narrowing);
-  }
-  // The heel: its fullest back stands above the sole (the heel landmark, ≥ 1 cm up) and it rounds
-  // forward into the sole (2 mm above the floor the foot's back is ≥ 5 mm in front of it). The
-  // heel before 2026-11-28 fell straight to a sole edge, a boot's heel.
-  {
-    const Eigen::Vector3d h = at("heel_left");
-    check(h.y() >= 1.0 * cm, "heel's fullest back above the sole", h.y());
-    double back = 1e9;
-    for (const auto& p : cut(v, f, 0.002))
-      if (p.x() > 0) back = std::min(back, p.z());
-    check(back - h.z() >= 0.5 * cm, "heel rounds into the sole", back - h.z());
-  }
-  // The groin: no level groove across the thigh's front where the belly's lowest rings meet it.
-  // Outward of the thigh's centre, going up from the thigh's girth level to 4 cm above the crotch,
-  // the front never lies more than 2.5 mm behind both a point below it and a point above it (the
-  // water the profile would hold; a heavy belly overhanging above holds none). Before 2026-11-28
-  // the belly's lowest rings held 3 mm on the median checked body and up to 6.5 mm: the hem of a
-  // pair of shorts.
-  {
-    const Eigen::Vector3d out_side = at("thigh_left");
-    double in_side = 1e9;
-    for (const auto& p : cut(v, f, out_side.y()))
-      if (p.x() > 0) in_side = std::min(in_side, p.x());
-    const double centre = 0.5 * (in_side + out_side.x()), x = centre + 0.4 * (out_side.x() - centre);
-    std::vector<double> z;  // the front, every 2.5 mm up (levels with no surface at x left out)
-    for (double y = out_side.y(); y <= at("crotch").y() + 4 * cm; y += 0.25 * cm) {
-      const double front = section_z_at(v, f, y, x, +1);
-      if (front > -1e8) z.push_back(front);
-    }
-    std::vector<double> below(z.size()), above(z.size());
-    for (size_t i = 0; i < z.size(); ++i) below[i] = std::max(z[i], i > 0 ? below[i - 1] : z[i]);
-    for (size_t i = z.size(); i-- > 0;) above[i] = std::max(z[i], i + 1 < z.size() ? above[i + 1] : z[i]);
-    double groove = 0;
-    for (size_t i = 0; i < z.size(); ++i) groove = std::max(groove, std::min(below[i], above[i]) - z[i]);
-    check(groove <= 0.25 * cm, "no groove across the thigh's front under the belly", groove);
-  }
+  lower_leg_failures(v, f, at, cm, check);
+  heel_failures(v, f, at, cm, check);
+  groin_failures(v, f, at, cm, check);
   return out;
 }
 }  // namespace
