@@ -2555,8 +2555,8 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   // inner front beside the crotch up and out to it.
   const Eigen::Vector2d iliac_front(0.78 * a_hip, y_hip + 0.45 * (y_w - y_hip));
   const LegRing& thigh_ring = P.leg[static_cast<size_t>(leg_key_ring(kThigh))];
-  const Eigen::Vector2d groin0(thigh_ring.xc - 0.5 * thigh_ring.am, P.crotch_y + 1.0 * cm), groin1 = iliac_front;
-  auto groin_fold_x = [&](double y) { return std::lerp(groin0.x(), groin1.x(), std::clamp((y - groin0.y()) / (groin1.y() - groin0.y()), 0.0, 1.0)); };
+  const Eigen::Vector2d groin0(thigh_ring.xc - 0.5 * thigh_ring.am, P.crotch_y + 1.0 * cm);
+  auto groin_fold_x = [&](double y) { return std::lerp(groin0.x(), iliac_front.x(), std::clamp((y - groin0.y()) / (iliac_front.y() - groin0.y()), 0.0, 1.0)); };
 
   // -- Torso, neck and head (left half, j = 0..32).
   const Grid T{&B.torso};
@@ -2700,7 +2700,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // up and out toward the iliac crest's front. Without it the belly ended in a level line
         // across both thighs, the hem of a pair of shorts.
         {
-          const Eigen::Vector2d e = groin1 - groin0, q(x, y);
+          const Eigen::Vector2d e = iliac_front - groin0, q(x, y);
           const double u = std::clamp((q - groin0).dot(e) / e.squaredNorm(), 0.0, 1.0);
           const double dist = (q - (groin0 + u * e)).norm();
           h -= front * std::lerp(0.5, 0.4, fem) * cm * window(u, 0.0, 0.3, 0.75, 1.0) * blob(dist, 0, 2.0 * cm, 1);
