@@ -848,7 +848,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   const double y_acr = std::max(d.acr, y_ax + 0.05);
   const double y_chin = d.S - 0.232 * hs;
   const double y_cv = std::max(d.cerv, y_acr + 0.015);
-  const double y_nk = std::clamp(std::min(y_cv - 0.012, y_chin - 0.022), y_acr + 0.02, y_cv - 0.004);
+  const double y_nk = std::clamp(std::min(y_cv - 0.006, y_chin - 0.022), y_acr + 0.02, y_cv - 0.004);
   const double y_chin_c = std::max(y_chin, y_cv + 0.006);
   const double y_g = d.S - 0.52 * d.headl;
   const double y_nose = y_chin_c + 0.62 * (y_g - y_chin_c) ;
@@ -942,7 +942,11 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   {
     TorsoRing& r = K[kNeck];
     r.y = y_nk;
-    r.a = neck_r * 1.02; r.df = neck_r * 0.95; r.db = neck_r * 1.02; r.p = 2.2;
+    // The ring carrying the neck's girth lies at the neck's base, where the neck is wider than
+    // deep as it spreads into the trapezius (a round ring here made the neck a pipe from the jaw
+    // down to the shoulders). ANSUR measures the girth higher, under the larynx, on a plane
+    // across the neck's axis; our sections are level, and the chin lies about as high as C7.
+    r.a = neck_r * 1.12; r.df = neck_r * 0.90; r.db = neck_r * 0.98; r.p = 2.2;
     std::vector<Eigen::Vector2d> pts = torso_polygon(r);
     const double s = d.neckc / convex_hull_perimeter(pts);
     r.a *= s; r.df *= s; r.db *= s;
@@ -955,7 +959,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double neck_front = r.cz + r.df, neck_back = r.cz - r.db;
     TorsoRing s1 = top, s2 = top;
     const double dy = y_nk - y_acr;
-    // The trapezius: from the front the shoulder line falls away from the neck in a concave curve.
+    // The trapezius: from the front the shoulder line falls away from the neck in a nearly straight
+    // slope, bending upright only just under the neck ring (a curve that flattened out toward
+    // the acromion left square shoulders; one that bent at the neck ring itself creased there).
     // From the side the upper chest recedes early toward the throat (a front that stayed full up
     // to the shoulders' top would fold there, worst on short necks), and the back of the neck
     // curves out into the upper back: no collar at the neck's base.
@@ -965,10 +971,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       q.db = q.cz - back;
     };
     s1.y = y_acr + 0.3 * dy;
-    s1.a = top.a - 0.5 * (top.a - r.a);
+    s1.a = top.a - 0.36 * (top.a - r.a);
     between(s1, std::lerp(top_front, neck_front, 0.6), std::lerp(top_back, neck_back, 0.35));
     s2.y = y_acr + 0.6 * dy;
-    s2.a = std::max(r.a * 1.25, top.a - 0.78 * (top.a - r.a));  // the trapezius' slope
+    s2.a = std::max(r.a * 1.25, top.a - 0.75 * (top.a - r.a));  // the trapezius' slope
     between(s2, std::lerp(top_front, neck_front, 0.88), std::lerp(top_back, neck_back, 0.8));
     s1.p = 1.9;
     s2.p = 2.0;
@@ -977,22 +983,27 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   }
   {
     const double hb2 = d.headb / 2, hl2 = d.headl / 2;
-    const double head_cz = K[kNeck].cz + 0.022 * hs;
+    // The head sits forward of the neck's base: the neck leans forward from the shoulders, so in
+    // profile the occiput stands about over C7 and the upper back behind both. With the head
+    // 2 cm further back (before 2026-11-28) the neck stood upright and the skull overhung it.
+    const double head_cz = K[kNeck].cz + 0.042 * hs;
     TorsoRing r = K[kNeck];
     r.y = y_cv;
-    r.a *= 0.98; r.db *= 0.99; r.df *= 0.97;
+    // Above the neck ring the neck narrows a little toward the jaw, and C7 stands a few
+    // millimetres in front of the neck ring's back: the back of the neck keeps leaning forward
+    // through C7 into the nape instead of rising upright from a step.
+    r.a *= 0.95; r.db *= 0.95; r.df *= 0.99;
     K[kCervicale] = r;
     r.y = y_chin_c;
     r.cz = head_cz;
-    // The head's centre sits forward of the neck's: the back radius grows by that offset so the back
-    // of the neck stays straight (a slight hollow only) up to the skull.
-    r.a = std::max(0.78 * hb2, K[kNeck].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = 0.84 * hl2; r.p = 2.2;
+    // The chin ring reaches from the chin back to the neck's back (its back is then redrawn by
+    // the nape's profile, below); it is no narrower than the neck under it.
+    r.a = std::max(0.78 * hb2, K[kCervicale].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = 0.84 * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
     // The jaw narrows toward the chin: a U from the front, not a box. By a half near the midline
     // it came to a point; a man's chin is broader and squarer than a woman's.
     r.front_taper = std::lerp(0.30, 0.38, fem);
     K[kChin] = r;
-    // The back of the neck runs up to the occiput; the skull bulges out only above it.
     // The lower face stands nearly upright under the glabella, as in a real profile (at 0.84 and
     // 0.78 of the half-length the face sloped back to a receding chin).
     r.y = y_mouth; r.a = std::max(0.8 * hb2, r.a + 0.003 * hs);  // never narrower than the jaw below
@@ -1144,21 +1155,24 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       P.torso_jaw_lift[static_cast<size_t>(k)] = jaw(P.torso[static_cast<size_t>(k)].y);
     }
   }
-  // The nape: the backs of the rings between the cervicale and nose rings follow one smooth curve
-  // from the back of the neck out to the occiput. Interpolated between their key rings, the chin
-  // ring's back stood out past the mouth ring's, a roll under the skull (a helmet's rim from
-  // behind). The curve passes through the cervicale and nose rings' backs, its slopes set by the
-  // rings beyond them, and gives each ring in between its back depth.
+  // The nape: the backs of the rings from the cervicale up to the nose ring follow one smooth
+  // profile through C7, the nape and the nose ring's back (monotone cubic; its slopes at the ends
+  // set by the rings beyond them). From C7 the back of the neck leans forward into the nape's
+  // hollow, halfway up to the nose ring's back and 1.2 head-centimetres in front of the fuller
+  // of the two, then the skull rounds out behind. Before (2026-11-28) the profile ran only
+  // backward from C7 to the nose ring: the back of the neck stood straight from the shoulders
+  // into the skull, a pipe. Carried on up to the glabella ring it reshaped the skull's side
+  // behind the ears, and on some women the ear's rim stood less than 1 mm beyond its bowl.
+  // Interpolated between the key rings, the chin ring's back stood out under the skull, a
+  // helmet's rim.
   {
     const int kc = torso_key_ring(kCervicale), kn = torso_key_ring(kNose);
     auto back_y = [&](int k) { return torso_point_y(P, k, 0, -1); };
     auto back_z = [&](int k) { return P.torso[static_cast<size_t>(k)].cz - P.torso[static_cast<size_t>(k)].db; };
-    std::vector<double> ys, zs;
-    for (int k : {kc - 1, kc, kn, kn + 1}) {
-      ys.push_back(back_y(k));
-      zs.push_back(back_z(k));
-    }
-    const MonotoneCurve nape(ys, zs);
+    const double y_nape = std::lerp(back_y(kc), back_y(kn), 0.5);
+    const double z_nape = std::max(back_z(kc), back_z(kn)) + 0.012 * hs;
+    const MonotoneCurve nape({back_y(kc - 1), back_y(kc), y_nape, back_y(kn), back_y(kn + 1)},
+                             {back_z(kc - 1), back_z(kc), z_nape, back_z(kn), back_z(kn + 1)});
     for (int k = kc + 1; k < kn; ++k) P.torso[static_cast<size_t>(k)].db = P.torso[static_cast<size_t>(k)].cz - nape(back_y(k));
   }
   // Dome: a quarter-superellipse from the glabella ring to the vertex (dome_ring).

@@ -243,9 +243,17 @@ TEST(Vrm, HumanoidMapMetaAndLookAt) {
   EXPECT_EQ(doc["nodes"][vrm["firstPerson"]["meshAnnotations"][0]["node"].get<int>()].value("mesh", -1), 0);
   const auto offset = vrm["lookAt"]["offsetFromHeadBone"].get<std::vector<double>>();
   ASSERT_EQ(offset.size(), 3u);
-  EXPECT_GT(offset[1], 0.03);  // the eyes are above the head joint (the skull's base)…
-  EXPECT_LT(offset[1], 0.15);
-  EXPECT_GT(offset[2], 0.03);  // …and in front of it
+  // The offset is in the head bone's frame, which leans forward with the neck; in the body's
+  // own frame the eyes are above the head joint (the skull's base) and in front of it.
+  const Vertices& rest = m.data().template_vertices;
+  const ExportRig rig = export_rig(m, m.joints(rest), rest, SkeletonNaming::Smpl);
+  const int head = static_cast<int>(std::find(rig.model_names.begin(), rig.model_names.end(), "head") - rig.model_names.begin());
+  ASSERT_LT(head, rig.size());
+  const Eigen::Vector3d eyes = rig.orientations[static_cast<size_t>(head)] * Eigen::Vector3d(offset[0], offset[1], offset[2]);
+  EXPECT_NEAR(eyes.x(), 0.0, 1e-6);
+  EXPECT_GT(eyes.y(), 0.03);
+  EXPECT_LT(eyes.y(), 0.15);
+  EXPECT_GT(eyes.z(), 0.03);
 }
 
 TEST(Vrm, NonCommercialModelsSayPersonalNonProfitAndModelsWithoutSmplNamesAreRefused) {
