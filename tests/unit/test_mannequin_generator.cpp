@@ -170,15 +170,16 @@ void groin_failures(const Vertices& v, const Faces& f, const LandmarkAt& at, dou
 // backward from C7 up, a straight pipe from the shoulders into the skull. Returns what failed,
 // or "".
 std::string nape_failure(const Vertices& v, const Faces& f, double y0, double y1, double hu) {
+  constexpr double step = 0.002;  // m
   std::vector<double> back;
-  for (double y = y0; y <= y1; y += 0.002) back.push_back(extreme_z(cut(v, f, y), 0.0, 0.005, -1));
+  for (double y = y0; y <= y1; y += step) back.push_back(extreme_z(cut(v, f, y), 0.0, 0.005, -1));
   const size_t nape = static_cast<size_t>(std::max_element(back.begin(), back.end()) - back.begin());
   const double hollow = back[nape] - std::max(back.front(), back.back());
   if (hollow < hu) return "nape's hollow " + std::to_string(1000 * hollow) + " mm in front of C7 and the occiput";
   for (size_t i = 1; i < back.size(); ++i) {
     const double step = back[i] - back[i - 1];  // > 0: forward, going up
     if (i <= nape ? step < -0.0002 : step > 0.0002)
-      return "nape's profile turns back at " + std::to_string(0.2 * static_cast<double>(i)) + " cm above C7";
+      return "nape's profile turns back at " + std::to_string(100 * step * static_cast<double>(i)) + " cm above C7";
   }
   return "";
 }
