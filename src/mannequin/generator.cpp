@@ -106,6 +106,7 @@ constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 
 constexpr double kJawLift = 0.15;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
+constexpr double kCleftWidth = 0.024;  // the buttocks' cleft: its depth falls to 1/e this far from the midline (m)
 constexpr double kEarDensity = 2.0;   // and across the ears
 // The ear, in head centimetres from the glabella (Y up, scaled by the face's height; Z forward
 // of the head's centre): its centre and half-height and half-width.
@@ -229,6 +230,7 @@ struct TorsoRing {
   double bust = 0, bust_t = 0.75, bust_w = 0.32;  // bust bumps: amplitude (m), angle, width (rad)
   double bust_w_out = 0;                           // the bumps' width on their outer side (0: bust_w)
   double glute = 0;                                // buttock bumps (m)
+  double cleft = 0;                                // the buttocks' cleft at the back's midline: depth (m)
   double nose = 0, chin = 0;                       // face bumps (m)
   double front_taper = 0;  // the front half narrows by this share toward the midline (x × (1 − taper·cos²))
 };
@@ -246,6 +248,9 @@ Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
     x += 0.25 * r.bust * g * (tt >= 0 ? 1 : -1);
   }
   if (r.glute != 0) z -= r.glute * std::exp(-std::pow((at - (kPi - 0.62)) / 0.42, 2));
+  // The cleft between the buttocks: a groove along the back's midline, as wide in metres on every
+  // ring (kCleftWidth), whatever the ring's breadth. Back half only: the front's midline is x = 0 too.
+  if (r.cleft != 0 && c < 0) z += r.cleft * std::exp(-sq(x / kCleftWidth));
   if (r.nose != 0) z += r.nose * std::exp(-std::pow(at / 0.12, 2));
   if (r.chin != 0) z += r.chin * std::exp(-std::pow(at / 0.45, 2));
   return {x, z};
@@ -871,6 +876,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.y = y_hip;
     r.cz = 0.0;
     r.glute = (0.010 + 0.010 * fem) * d.bd / 0.24;
+    // The cleft between the buttocks, solved with the ring: the cheeks beside it carry the depth,
+    // and the hull (the tape) bridges it. The rings below down to the bottom ring keep it full.
+    r.cleft = 0.035 * d.bd / 0.24;
     fit_torso_ring(r, d.hb, d.bd, hip_front, d.bc, 1.7, 6.0);
   }
   {
@@ -1025,27 +1033,27 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   }
 
   // Ring levels between keys, then monotone interpolation of every parameter over y.
-  std::vector<double> ky, ka, kdf, kdb, kcz, kp, kbust, kglute, knose, kchin, kfront_taper;
+  std::vector<double> ky, ka, kdf, kdb, kcz, kp, kbust, kglute, kcleft, knose, kchin, kfront_taper;
   for (int key = 0; key < kTorsoKeyCount; ++key) {
     // The iliocristale ring is a level, not a shape: a duplicate knot there would flatten the
     // profile into a visible band.
     if (key == kIlio || key == kArmpit) continue;
     const TorsoRing& r = K[static_cast<size_t>(key)];
     ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db); kcz.push_back(r.cz);
-    kp.push_back(r.p); kbust.push_back(r.bust); kglute.push_back(r.glute); knose.push_back(r.nose); kchin.push_back(r.chin);
-    kfront_taper.push_back(r.front_taper);
+    kp.push_back(r.p); kbust.push_back(r.bust); kglute.push_back(r.glute); kcleft.push_back(r.cleft);
+    knose.push_back(r.nose); kchin.push_back(r.chin); kfront_taper.push_back(r.front_taper);
   }
   // A knot on the dome (as the dome rings below compute it) gives the head's profile a level
   // tangent at the glabella ring, its widest: the face rings meet the dome without a band.
   {
     const TorsoRing r = dome_ring(K[kGlabella], d.S, hs, std::asin(std::pow(0.3, kDomeE / 2)));
     ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db);
-    kcz.push_back(r.cz); kp.push_back(r.p); kbust.push_back(0); kglute.push_back(0);
+    kcz.push_back(r.cz); kp.push_back(r.p); kbust.push_back(0); kglute.push_back(0); kcleft.push_back(0);
     knose.push_back(0); kchin.push_back(0); kfront_taper.push_back(0);
   }
   // The bust needs its own profile: fuller below the apex, fading toward the axilla.
   const MonotoneCurve ca(ky, ka), cdf(ky, kdf), cdb(ky, kdb), ccz(ky, kcz), cp(ky, kp), cglute(ky, kglute),
-      cnose(ky, knose), cchin(ky, kchin), cfront_taper(ky, kfront_taper);
+      ccleft(ky, kcleft), cnose(ky, knose), cchin(ky, kchin), cfront_taper(ky, kfront_taper);
   const double bust = K[kChest].bust;
   const MonotoneCurve cbust({std::min(y_ic, y_ch - 0.1 * sc), y_ch - 0.085 * sc, y_ch - 0.045 * sc, y_ch, y_ch + 0.05 * sc, y_ax, y_acr},
                             {0, 0.05 * bust, 0.7 * bust, bust, 0.6 * bust, 0.25 * bust, 0});
@@ -1062,17 +1070,14 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     TorsoRing r;
     r.y = y; r.a = ca(y); r.df = cdf(y); r.db = cdb(y); r.cz = ccz(y); r.p = cp(y);
     r.bust = cbust(y); r.bust_t = bust_t; r.bust_w = bust_w;
-    r.glute = cglute(y); r.nose = cnose(y); r.chin = cchin(y); r.front_taper = cfront_taper(y);
+    r.glute = cglute(y); r.cleft = ccleft(y); r.nose = cnose(y); r.chin = cchin(y); r.front_taper = cfront_taper(y);
     return r;
   };
   for (int key = 0; key + 1 < kTorsoKeyCount; ++key) {
     const int k0 = torso_key_ring(key), n = kTorsoIntervals[static_cast<size_t>(key)];
     for (int i = 0; i < n; ++i) {
       const double y = K[key].y + (K[key + 1].y - K[key].y) * i / n;
-      TorsoRing r;
-      r.y = y; r.a = ca(y); r.df = cdf(y); r.db = cdb(y); r.cz = ccz(y); r.p = cp(y);
-      r.bust = cbust(y); r.bust_t = K[kChest].bust_t; r.bust_w = K[kChest].bust_w;
-      r.glute = cglute(y); r.nose = cnose(y); r.chin = cchin(y); r.front_taper = cfront_taper(y);
+      TorsoRing r = P.torso_profile(y);
       if (i == 0 && key != kIlio && key != kArmpit) { r = K[key]; if (key > kChest && key < kNeck) r.bust = cbust(y); }
       P.torso[static_cast<size_t>(k0 + i)] = r;
     }
@@ -1313,6 +1318,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
         r.a = P.hip_outline(r.y + P.torso_tilt_side[static_cast<size_t>(k)]); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e);
         r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e);
+        r.cleft = std::lerp(b.cleft, h.cleft, e);
         r.bust = std::lerp(b.bust, 0.0, e); r.bust_t = b.bust_t; r.bust_w = b.bust_w; r.bust_w_out = b.bust_w_out;
       }
       P.crotch_z = std::clamp(t.zc, b.cz - 0.5 * b.db, b.cz + 0.5 * b.df);

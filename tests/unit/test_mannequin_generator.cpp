@@ -184,6 +184,23 @@ std::string nape_failure(const Vertices& v, const Faces& f, double y0, double y1
   return "";
 }
 
+// The buttocks meet in a cleft: on the buttock's section (the hip ring, ANSUR's buttock depth and
+// girth) and a third of the way down from it toward the gluteal furrow (or 2 cm above the crotch,
+// if that is higher), the back's midline lies at least 1 cm (per 1.70 m) in front of the back-most
+// point 2.5–9.5 cm beside it (the cheek). Before 2026-11-28 the midline was the buttocks' back-most
+// point or within 2 mm of it: one rounded mass. Returns what failed, or "".
+std::string cleft_failure(const Vertices& v, const Faces& f, const LandmarkAt& at, double cm) {
+  const double y_hip = at("buttock_back").y(), y_low = std::max(at("gluteal_furrow").y(), at("crotch").y() + 2 * cm);
+  for (const double y : {y_hip, y_hip - (y_hip - y_low) / 3}) {
+    const double midline = section_z_at(v, f, y, 0.0, -1);
+    const double cheek = extreme_z(cut(v, f, y), 6.0 * cm, 3.5 * cm, -1);
+    if (midline > 1e8 || cheek > 1e8) return "buttocks: no section at " + std::to_string(y) + " m";
+    if (midline - cheek < 1.0 * cm)
+      return "buttocks' cleft at " + std::to_string(y) + " m only " + std::to_string(1000 * (midline - cheek)) + " mm deep";
+  }
+  return "";
+}
+
 // The relief (generator.cpp, sculpt()) carries a face, a spine, kneecaps and malleoli, measured
 // here on the surface itself, in head centimetres (hu) for the face and centimetres scaled by
 // stature elsewhere. Each check compares points a lofted ring surface could not tell apart by
@@ -280,6 +297,7 @@ std::vector<std::string> relief_failures(const BodyModel& model, const Vertices&
   lower_leg_failures(v, f, at, cm, check);
   heel_failures(v, f, at, cm, check);
   groin_failures(v, f, at, cm, check);
+  if (const std::string cleft = cleft_failure(v, f, at, cm); !cleft.empty()) out.push_back(cleft);
   return out;
 }
 }  // namespace
@@ -660,6 +678,15 @@ TEST(MannequinGenerator, NapeHollowsUnderTheSkull) {
     const double y0 = v(lm.at("cervicale"), 1), y1 = v(lm.at("opisthocranion"), 1);
     ASSERT_LT(y0 + 0.05, y1) << to_string(sex);
     EXPECT_EQ(nape_failure(v, mq::topology().faces, y0, y1, 0.01 * d.at("headlength") / 0.195), "") << to_string(sex) << ", " << d.at("stature") << " m tall";
+  }
+}
+
+TEST(MannequinGenerator, ButtocksMeetInACleft) {
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const auto& lm = mq::topology().landmarks;
+    auto at = [&](const char* name) { return Eigen::Vector3d(v.row(lm.at(name)).transpose()); };
+    EXPECT_EQ(cleft_failure(v, mq::topology().faces, at, 0.01 * d.at("stature") / 1.70), "") << to_string(sex) << ", " << d.at("stature") << " m tall";
   }
 }
 
