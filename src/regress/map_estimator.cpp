@@ -128,11 +128,39 @@ std::string said_sd(const std::function<double(const std::string&, double)>& as_
                     double at, double sd) {
   return edge_text(name, as_measured ? std::abs(as_measured(name, at + sd) - as_measured(name, at)) : sd);
 }
+// What a measurement is compared with in a warning: the other given measurements, named when
+// there are one or two (with only stature and weight given, "the other measurements" read as if
+// more had been), and the body model's population behind them.
+struct Others {
+  std::string words;  // "" (none), "stature", "stature and span", "the other measurements"
+  bool one = false;   // a single measurement: "suggests"
+};
+Others others_than(const std::vector<std::string>& given, const std::string& name) {
+  std::vector<std::string> o;
+  for (const auto& g : given)
+    if (g != name) o.push_back(g);
+  if (o.size() > 2) return {"the other measurements", false};
+  if (o.size() == 2) return {o[0] + " and " + o[1], false};
+  return {o.empty() ? "" : o[0], o.size() == 1};
+}
+// "… than stature suggests", "… than the other measurements suggest".
+std::string suggested_by(const std::vector<std::string>& given, const std::string& name) {
+  const Others o = others_than(given, name);
+  if (o.words.empty()) return "the body model's population suggests";
+  return o.words + (o.one ? " suggests" : " suggest");
+}
+// "… than stature and the body model's population allow".
+std::string allowed_by(const std::vector<std::string>& given, const std::string& name) {
+  const Others o = others_than(given, name);
+  return o.words.empty() ? "the body model's population allows" : o.words + " and the body model's population allow";
+}
 }  // namespace
 
 std::vector<std::string> describe_drivers(const BodyModel& model, const std::map<std::string, MapInputFit>& fits,
                                           const std::function<double(const std::string&, double)>& as_measured) {
   constexpr double kNotable = 2.0;
+  std::vector<std::string> given;
+  for (const auto& [name, fit] : fits) given.push_back(name);
   std::vector<std::pair<double, std::string>> found;
   for (const auto& [name, fit] : fits) {
     const MeasurementDefinition* def = model.find_measurement(name);
@@ -150,7 +178,8 @@ std::vector<std::string> describe_drivers(const BodyModel& model, const std::map
     }
     if (std::abs(fit.z) >= kNotable) {
       s << name << " " << said(as_measured, name, fit.value) << " is " << std::abs(fit.z) << " SD "
-        << (fit.z > 0 ? more : less) << " than the other measurements suggest (" << said(as_measured, name, fit.expected) << ")";
+        << (fit.z > 0 ? more : less) << " than " << suggested_by(given, name) << " ("
+        << said(as_measured, name, fit.expected) << ")";
       found.emplace_back(std::abs(fit.z), s.str());
     }
   }
@@ -455,7 +484,7 @@ MapEstimate MapEstimator::solve(const std::map<std::string, double>& values, con
     s.setf(std::ios::fixed);
     s.precision(1);
     s << (c == 0 ? "" : "also: ") << name << " is " << std::abs(fit.z) << " SD " << (fit.z > 0 ? more : less)
-      << " than the other measurements and the body model's population allow (given "
+      << " than " << allowed_by(names, name) << " (given "
       << said(options.as_measured, name, fit.value) << "; they suggest " << said(options.as_measured, name, fit.expected)
       << " ± " << said_sd(options.as_measured, name, fit.expected, fit.expected_sd) << "); the avatar reconciles it at "
       << said(options.as_measured, name, fit.fitted);

@@ -203,6 +203,8 @@ TEST(MapEstimator, ContradictorySpanIsReconciledAndNamed) {
   ASSERT_FALSE(map.warnings.empty());
   EXPECT_EQ(map.warnings[0].rfind("span is ", 0), 0u) << map.warnings[0];
   EXPECT_NE(map.warnings[0].find("longer"), std::string::npos) << map.warnings[0];
+  EXPECT_NE(map.warnings[0].find("than the other measurements and the body model's population allow"), std::string::npos)
+      << map.warnings[0];
   EXPECT_GT(map.input_fits.at("span").z, 3.0);
   // The other inputs are the consistent ones: none of them is blamed.
   for (const auto& w : map.warnings) EXPECT_EQ(w.find("stature is"), std::string::npos) << w;
@@ -219,6 +221,30 @@ TEST(MapEstimator, ContradictorySpanIsReconciledAndNamed) {
   EXPECT_GT(report.at("measurements").at("span").at("uncertainty_cm").get<double>(), 0.0);
   EXPECT_GT(report.at("measurements").at("weight").at("uncertainty_kg").get<double>(), 0.0);
   EXPECT_EQ(report.at("uncertainty").at("noise"), "self");
+}
+
+// With only stature and weight given, a warning about the weight names the stature it was weighed
+// against: "than the other measurements" read as if more had been given.
+TEST(MapEstimator, WarningNamesTheOnlyOtherMeasurement) {
+  const auto model = female();
+  auto values = measure_named(*model, Eigen::VectorXd::Zero(model->shape_count()), {"stature", "weight"});
+  values["weight"] *= 1.6;
+  AvatarBuilder builder(model);
+  AvatarRequest req;
+  req.measurements = values;
+  req.apply_model_maps = false;
+  req.noise = "self";
+  const Avatar a = builder.build(req);
+  ASSERT_FALSE(a.warnings.empty());
+  EXPECT_EQ(a.warnings[0].rfind("weight is ", 0), 0u) << a.warnings[0];
+  EXPECT_NE(a.warnings[0].find("than stature and the body model's population allow"), std::string::npos) << a.warnings[0];
+  const auto drivers = describe_drivers(*model, a.input_fits, nullptr);
+  bool named = false;
+  for (const auto& d : drivers) {
+    EXPECT_EQ(d.find("other measurements"), std::string::npos) << d;
+    named = named || d.find("than stature suggests") != std::string::npos;
+  }
+  EXPECT_TRUE(named) << "no driver compares the weight with the stature";
 }
 
 TEST(MapEstimator, ConsistentNoisyInputsGiveNoWarning) {
