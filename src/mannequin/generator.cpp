@@ -9,7 +9,8 @@
 // front-to-back bridge of vertices shared by both legs' first rings.
 //
 // After the rings, the shoulder and the groin are faired (fair()) and anatomy is drawn on the surface as
-// horizontal displacements that keep every target (sculpt(), "Relief" below; docs/mannequin.md).
+// horizontal displacements that keep every target (sculpt(), "Relief" below; docs/mannequin.md);
+// last, the legs lean out into a relaxed stance (splay_legs(), which keeps every section's shape).
 //
 // Fidelity by construction (brief; paper §3.2 for how Caliper measures): every imposed
 // breadth/depth/circumference sits on a planar ring, so the plane section through its landmark is
@@ -104,6 +105,8 @@ constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 
 // lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
 constexpr double kJawLift = 0.15;
+// The legs' outward lean in the rest pose (splay_legs()): the feet stand about hip-width apart.
+constexpr double kLegSplay = 4.0 * kPi / 180;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
 constexpr double kCleftWidth = 0.024;  // the buttocks' cleft: its depth falls to 1/e this far from the midline (m)
@@ -3227,6 +3230,26 @@ UvLayout uv_layout(const Vertices& rest) {
   return layout;
 }
 
+// A relaxed stance: the legs lean out by kLegSplay, so the feet stand about hip-width apart
+// instead of side by side with the thighs touching all the way down. Every vertex below the
+// crotch moves straight outward by an amount that depends on its height alone, so each
+// horizontal section of a leg moves as a whole: every girth, breadth, length and height stays.
+// The lean starts gently (its slope grows over the first 10 cm below the crotch, where the
+// thighs meet the torso), and below the lateral malleolus the foot moves as one piece.
+namespace {
+void splay_legs(const BodyPlan& P, double sc, std::vector<Vec3>& v) {
+  const double lean = std::tan(kLegSplay), ramp = 0.10 * sc;
+  const double y_top = P.crotch_y, y_foot = P.leg[static_cast<size_t>(leg_key_ring(kMalleolus))].y;
+  auto outward = [&](double y) {
+    const double below = y_top - std::max(y, y_foot);
+    if (below <= 0) return 0.0;
+    return below < ramp ? lean * below * below / (2 * ramp) : lean * (below - 0.5 * ramp);
+  };
+  for (Vec3& p : v)
+    if (p.y() < y_top && p.x() != 0) p.x() += (p.x() > 0 ? 1 : -1) * outward(p.y());
+}
+}  // namespace
+
 Vertices generate(const Dimensions& dims, Sex sex) {
   validate(dims, sex);
   const Dims d = to_dims(dims);
@@ -3236,6 +3259,7 @@ Vertices generate(const Dimensions& dims, Sex sex) {
   fair(B.v, hole_bottom_share(P, d));
   add_landmarks(B);
   sculpt(P, d, sex, B);
+  splay_legs(P, d.S / 1.70, B.v);
   Vertices out(static_cast<Eigen::Index>(B.v.size()), 3);
   for (size_t i = 0; i < B.v.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = B.v[i].transpose();
   return out;

@@ -105,13 +105,17 @@ std::optional<std::pair<double, double>> left_leg_span(const Vertices& v, const 
 // below it the leg narrows early: halfway down to the ankle it is narrower than the mean of the
 // calf's and the ankle's widths. A lofted leg before 2026-11-28 ran from the knee to the ankle as
 // a cone: its calf reached at most 1 mm past the knee, and its mid-shin was wider than that mean.
+// The inner sides are compared across the leg's own axis (through the middles of the knee's and
+// the ankle's sections), which leans out since the legs stand apart (2026-11-28).
 void lower_leg_failures(const Vertices& v, const Faces& f, const LandmarkAt& at, double cm, const Check& check) {
   const double y_knee = at("knee_left").y(), y_calf = at("calf_left").y(), y_ankle = at("ankle_left").y();
   const auto knee = left_leg_span(v, f, y_knee), calf = left_leg_span(v, f, y_calf), ankle = left_leg_span(v, f, y_ankle),
              shin = left_leg_span(v, f, 0.5 * (y_calf + y_ankle));
   if (!knee || !calf || !ankle || !shin) return check(false, "lower leg: a section missed the leg", 0.0);
   auto width = [](const std::pair<double, double>& s) { return s.second - s.first; };
-  const double inner = knee->first - calf->first;
+  auto middle = [](const std::pair<double, double>& s) { return 0.5 * (s.first + s.second); };
+  const double axis_shift = (middle(*ankle) - middle(*knee)) * (y_calf - y_knee) / (y_ankle - y_knee);  // at the calf
+  const double inner = knee->first - (calf->first - axis_shift);
   check(inner >= 0.15 * cm, "calf's inner side beyond the knee's", inner);
   const double narrowing = 0.5 * (width(*calf) + width(*ankle)) - width(*shin);
   check(narrowing >= 0.2 * cm, "shin narrows early below the calf", narrowing);
