@@ -107,9 +107,12 @@ constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 
 constexpr double kJawLift = 0.15;
 // The legs' outward lean in the rest pose (splay_legs()): the feet stand about hip-width apart.
 constexpr double kLegSplay = 4.0 * kPi / 180;
+constexpr double kLegSplayRamp = 0.10;  // m below the crotch (per 1.70 m) over which the lean sets in
+// The buttocks' cleft (TorsoRing::cleft): its depth on a 24 cm buttock depth (scaled with it), and
+// the distance from the midline at which that depth falls to 1/e (m).
+constexpr double kCleftDepth = 0.035, kCleftWidth = 0.024;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
-constexpr double kCleftWidth = 0.024;  // the buttocks' cleft: its depth falls to 1/e this far from the midline (m)
 constexpr double kEarDensity = 2.0;   // and across the ears
 // The ear, in head centimetres from the glabella (Y up, scaled by the face's height; Z forward
 // of the head's centre): its centre and half-height and half-width.
@@ -881,7 +884,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.glute = (0.010 + 0.010 * fem) * d.bd / 0.24;
     // The cleft between the buttocks, solved with the ring: the cheeks beside it carry the depth,
     // and the hull (the tape) bridges it. The rings below down to the bottom ring keep it full.
-    r.cleft = 0.035 * d.bd / 0.24;
+    r.cleft = kCleftDepth * d.bd / 0.24;
     fit_torso_ring(r, d.hb, d.bd, hip_front, d.bc, 1.7, 6.0);
   }
   {
@@ -889,8 +892,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.y = y_w;
     r.cz = -0.005;
     // The buttocks round off over ~10 cm above the hip ring: a navel closer than that keeps part
-    // of them, or they would end in a ridge.
-    r.glute = K[kHip].glute * (1 - smoothstep(0.0, 0.10 * sc, y_w - y_hip));
+    // of them and of their cleft, or they would end in a ridge and the cleft in a notch.
+    const double rounded_off = smoothstep(0.0, 0.10 * sc, y_w - y_hip);
+    r.glute = K[kHip].glute * (1 - rounded_off);
+    r.cleft = K[kHip].cleft * (1 - rounded_off);
     fit_torso_ring(r, d.wb, d.wd, waist_front, d.wc, 1.7, 5.0);
   }
   {
@@ -923,6 +928,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.db = std::lerp(K[kWaist].db, K[kChest].db, 0.6);
     r.p = std::min(0.5 * (K[kWaist].p + K[kChest].p), 3.5);
     r.glute = 0;
+    r.cleft = 0;
     K[kUnderBust] = r;
     r = K[kChest];
     r.y = y_ax;
@@ -3234,11 +3240,12 @@ UvLayout uv_layout(const Vertices& rest) {
 // instead of side by side with the thighs touching all the way down. Every vertex below the
 // crotch moves straight outward by an amount that depends on its height alone, so each
 // horizontal section of a leg moves as a whole: every girth, breadth, length and height stays.
-// The lean starts gently (its slope grows over the first 10 cm below the crotch, where the
-// thighs meet the torso), and below the lateral malleolus the foot moves as one piece.
+// The lean starts gently (its slope grows over the first 10 cm below the crotch, per 1.70 m of
+// stature, where the thighs meet the torso), and below the lateral malleolus the foot moves as one
+// piece. Lengths along the leg grow by 1/cos(kLegSplay) − 1 = 0.24 %; no measured length does.
 namespace {
 void splay_legs(const BodyPlan& P, double sc, std::vector<Vec3>& v) {
-  const double lean = std::tan(kLegSplay), ramp = 0.10 * sc;
+  const double lean = std::tan(kLegSplay), ramp = kLegSplayRamp * sc;
   const double y_top = P.crotch_y, y_foot = P.leg[static_cast<size_t>(leg_key_ring(kMalleolus))].y;
   auto outward = [&](double y) {
     const double below = y_top - std::max(y, y_foot);

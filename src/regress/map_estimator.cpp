@@ -131,28 +131,25 @@ std::string said_sd(const std::function<double(const std::string&, double)>& as_
 // What a measurement is compared with in a warning: the other given measurements, named when
 // there are one or two (with only stature and weight given, "the other measurements" read as if
 // more had been), and the body model's population behind them.
-struct Others {
-  std::string words;  // "" (none), "stature", "stature and span", "the other measurements"
-  bool one = false;   // a single measurement: "suggests"
-};
-Others others_than(const std::vector<std::string>& given, const std::string& name) {
+std::vector<std::string> others_than(const std::vector<std::string>& given, const std::string& name) {
   std::vector<std::string> o;
   for (const auto& g : given)
     if (g != name) o.push_back(g);
-  if (o.size() > 2) return {"the other measurements", false};
-  if (o.size() == 2) return {o[0] + " and " + o[1], false};
-  return {o.empty() ? "" : o[0], o.size() == 1};
+  return o;
 }
-// "… than stature suggests", "… than the other measurements suggest".
+// "… than stature suggests", "… than span and stature suggest", "… than the other measurements suggest".
 std::string suggested_by(const std::vector<std::string>& given, const std::string& name) {
-  const Others o = others_than(given, name);
-  if (o.words.empty()) return "the body model's population suggests";
-  return o.words + (o.one ? " suggests" : " suggest");
+  const auto o = others_than(given, name);
+  if (o.empty()) return "the body model's population suggests";
+  if (o.size() == 1) return o[0] + " suggests";
+  return (o.size() == 2 ? o[0] + " and " + o[1] : "the other measurements") + " suggest";
 }
-// "… than stature and the body model's population allow".
+// "… than stature and the body model's population allow", "… than span, stature and …".
 std::string allowed_by(const std::vector<std::string>& given, const std::string& name) {
-  const Others o = others_than(given, name);
-  return o.words.empty() ? "the body model's population allows" : o.words + " and the body model's population allow";
+  const auto o = others_than(given, name);
+  if (o.empty()) return "the body model's population allows";
+  const std::string who = o.size() == 1 ? o[0] : o.size() == 2 ? o[0] + ", " + o[1] : "the other measurements";
+  return who + " and the body model's population allow";
 }
 }  // namespace
 
@@ -485,7 +482,8 @@ MapEstimate MapEstimator::solve(const std::map<std::string, double>& values, con
     s.precision(1);
     s << (c == 0 ? "" : "also: ") << name << " is " << std::abs(fit.z) << " SD " << (fit.z > 0 ? more : less)
       << " than " << allowed_by(names, name) << " (given "
-      << said(options.as_measured, name, fit.value) << "; they suggest " << said(options.as_measured, name, fit.expected)
+      << said(options.as_measured, name, fit.value) << (names.size() > 1 ? "; they suggest " : "; it suggests ")
+      << said(options.as_measured, name, fit.expected)
       << " ± " << said_sd(options.as_measured, name, fit.expected, fit.expected_sd) << "); the avatar reconciles it at "
       << said(options.as_measured, name, fit.fitted);
     if (fit.effective_sd > 2 * fit.noise_sd) s << ", treating it as a probable measurement error";

@@ -245,6 +245,12 @@ TEST(MapEstimator, WarningNamesTheOnlyOtherMeasurement) {
     named = named || d.find("than stature suggests") != std::string::npos;
   }
   EXPECT_TRUE(named) << "no driver compares the weight with the stature";
+  // Two others are named too; three or more are "the other measurements" (the span test above).
+  req.measurements["span"] = measure_named(*model, Eigen::VectorXd::Zero(model->shape_count()), {"span"}).at("span");
+  const Avatar b = builder.build(req);
+  ASSERT_FALSE(b.warnings.empty());
+  EXPECT_EQ(b.warnings[0].rfind("weight is ", 0), 0u) << b.warnings[0];
+  EXPECT_NE(b.warnings[0].find("than span, stature and the body model's population allow"), std::string::npos) << b.warnings[0];
 }
 
 TEST(MapEstimator, ConsistentNoisyInputsGiveNoWarning) {
