@@ -137,19 +137,22 @@ std::vector<std::string> others_than(const std::vector<std::string>& given, cons
     if (g != name) o.push_back(g);
   return o;
 }
+// The others in words: one by name, two joined by `pair_joiner`, more as "the other measurements".
+std::string in_words(const std::vector<std::string>& o, const char* pair_joiner) {
+  if (o.size() == 1) return o[0];
+  return o.size() == 2 ? o[0] + pair_joiner + o[1] : "the other measurements";
+}
 // "… than stature suggests", "… than span and stature suggest", "… than the other measurements suggest".
 std::string suggested_by(const std::vector<std::string>& given, const std::string& name) {
   const auto o = others_than(given, name);
   if (o.empty()) return "the body model's population suggests";
-  if (o.size() == 1) return o[0] + " suggests";
-  return (o.size() == 2 ? o[0] + " and " + o[1] : "the other measurements") + " suggest";
+  return in_words(o, " and ") + (o.size() == 1 ? " suggests" : " suggest");
 }
 // "… than stature and the body model's population allow", "… than span, stature and …".
 std::string allowed_by(const std::vector<std::string>& given, const std::string& name) {
   const auto o = others_than(given, name);
   if (o.empty()) return "the body model's population allows";
-  const std::string who = o.size() == 1 ? o[0] : o.size() == 2 ? o[0] + ", " + o[1] : "the other measurements";
-  return who + " and the body model's population allow";
+  return in_words(o, ", ") + " and the body model's population allow";
 }
 }  // namespace
 

@@ -100,6 +100,7 @@ std::optional<std::pair<double, double>> left_leg_span(const Vertices& v, const 
     if (p.x() > 0) span = span ? std::pair{std::min(span->first, p.x()), std::max(span->second, p.x())} : std::pair{p.x(), p.x()};
   return span;
 }
+double span_middle(const std::pair<double, double>& s) { return 0.5 * (s.first + s.second); }
 
 // The lower leg from the front. The calf's inner head bulges past the knee's inner side, and
 // below it the leg narrows early: halfway down to the ankle it is narrower than the mean of the
@@ -113,8 +114,7 @@ void lower_leg_failures(const Vertices& v, const Faces& f, const LandmarkAt& at,
              shin = left_leg_span(v, f, 0.5 * (y_calf + y_ankle));
   if (!knee || !calf || !ankle || !shin) return check(false, "lower leg: a section missed the leg", 0.0);
   auto width = [](const std::pair<double, double>& s) { return s.second - s.first; };
-  auto middle = [](const std::pair<double, double>& s) { return 0.5 * (s.first + s.second); };
-  const double axis_shift = (middle(*ankle) - middle(*knee)) * (y_calf - y_knee) / (y_ankle - y_knee);  // at the calf
+  const double axis_shift = (span_middle(*ankle) - span_middle(*knee)) * (y_calf - y_knee) / (y_ankle - y_knee);  // at the calf
   const double inner = knee->first - (calf->first - axis_shift);
   check(inner >= 0.15 * cm, "calf's inner side beyond the knee's", inner);
   const double narrowing = 0.5 * (width(*calf) + width(*ankle)) - width(*shin);
@@ -705,7 +705,7 @@ TEST(MannequinGenerator, LegsLeanOutIntoARelaxedStance) {
     const double y_knee = v(lm.at("knee_left"), 1), y_ankle = v(lm.at("ankle_left"), 1);
     const auto knee = left_leg_span(v, mq::topology().faces, y_knee), ankle = left_leg_span(v, mq::topology().faces, y_ankle);
     ASSERT_TRUE(knee && ankle) << to_string(sex);
-    const double out = 0.5 * (ankle->first + ankle->second) - 0.5 * (knee->first + knee->second);
+    const double out = span_middle(*ankle) - span_middle(*knee);
     const double degrees = std::atan2(out, y_knee - y_ankle) * 180 / std::acos(-1.0);
     EXPECT_GE(degrees, 2.0) << to_string(sex) << ", " << d.at("stature") << " m tall";
     EXPECT_LE(degrees, 8.0) << to_string(sex) << ", " << d.at("stature") << " m tall";
