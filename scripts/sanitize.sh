@@ -16,14 +16,14 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 # clang-14 (install-deps.sh): its libFuzzer lets one instrumented library serve both this suite and
 # the fuzzers (CALIPER_FUZZ). -O1: the level clang's AddressSanitizer manual suggests for usable
 # speed, and it compiles faster than -O2 (docs/reliability.md "Sanitizers" has the times); debug
-# information is line tables only (CMakeLists.txt). A build-asan/ from before (g++, no fuzzers) is
-# replaced.
+# information is line tables only, and it is a unity build (both: CMakeLists.txt). A build-asan/
+# from before (g++, no fuzzers) is replaced.
 if [ -f build-asan/CMakeCache.txt ] && ! grep -q '^CALIPER_FUZZ:BOOL=ON' build-asan/CMakeCache.txt; then
   rm -rf build-asan
 fi
 if [ ! -f build-asan/CMakeCache.txt ]; then
   CC=clang-14 CXX=clang++-14 cmake -S . -B build-asan "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -DNDEBUG" -DCALIPER_FUZZ=ON -DCALIPER_BUILD_BENCHMARKS=OFF
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -DNDEBUG" -DCALIPER_FUZZ=ON -DCALIPER_BUILD_BENCHMARKS=OFF -DCMAKE_UNITY_BUILD=ON
 fi
 cmake --build build-asan -j "$(nproc)"
 [ "${1:-}" = "--build-only" ] && exit 0

@@ -58,20 +58,6 @@ std::string lower(std::string s) {
   return s;
 }
 
-// Rounds to a decimal step (0.1, 1e-4…) so that the JSON shows 178.1, not 178.10000000000002:
-// dividing by the integer 1/step gives the double nearest the decimal, multiplying by step not.
-double round_to(double v, double step) {
-  const double inverse = std::round(1.0 / step);
-  return std::round(v * inverse) / inverse;
-}
-
-ApiResponse json_response(const ordered_json& j, int status = 200) {
-  ApiResponse r;
-  r.status = status;
-  r.body = dump_json(j);
-  return r;
-}
-
 // Thrown inside handlers for request problems that are not the library's (unknown route, wrong
 // JSON type); turned into the same error body as a caliper::Error.
 struct RequestError {

@@ -39,17 +39,6 @@ struct Refusal {
   throw Refusal{status, message, field, kind};
 }
 
-ApiResponse json_response(const ordered_json& j, int status = 200) {
-  ApiResponse r;
-  r.status = status;
-  r.body = dump_json(j);
-  return r;
-}
-
-double round_to(double v, double step) {
-  const double inverse = std::round(1.0 / step);
-  return std::round(v * inverse) / inverse;
-}
 double cm(double metres) { return round_to(metres * 100.0, 0.01); }
 
 ordered_json parse_object(const std::string& body, bool allow_empty) {
@@ -79,14 +68,14 @@ void only_fields(const ordered_json& j, std::initializer_list<const char*> known
   }
 }
 
-std::string string_field(const ordered_json& j, const char* key, const std::string& fallback) {
+std::string text_field(const ordered_json& j, const char* key, const std::string& fallback) {
   if (!j.contains(key) || j[key].is_null()) return fallback;
   if (!j[key].is_string()) refuse(400, std::string(key) + " must be a string", key);
   return j[key].get<std::string>();
 }
 
 std::optional<Sex> sex_field(const ordered_json& j) {
-  const std::string s = string_field(j, "sex", "");
+  const std::string s = text_field(j, "sex", "");
   if (s.empty()) return std::nullopt;
   if (s == "female") return Sex::Female;
   if (s == "male") return Sex::Male;
@@ -249,8 +238,8 @@ ordered_json task_json(const BodyImageTask& t) { return ordered_json::parse(body
 NewBodyImageTask parse_new_task(const ordered_json& j) {
   only_fields(j, {"kind", "instruction", "start_weight_change_pct", "range_pct"});
   NewBodyImageTask t;
-  t.kind = parse_task_kind(string_field(j, "kind", "adjust"));
-  t.instruction = string_field(j, "instruction", kHowILook);
+  t.kind = parse_task_kind(text_field(j, "kind", "adjust"));
+  t.instruction = text_field(j, "instruction", kHowILook);
   if (j.contains("start_weight_change_pct"))
     t.start_weight_change_pct = number_at(j["start_weight_change_pct"], "start_weight_change_pct", "start_weight_change_pct");
   if (j.contains("range_pct")) {
@@ -436,11 +425,11 @@ struct CaptureApi::Impl {
     const ordered_json j = parse_object(req.body, true);
     only_fields(j, {"mode", "steps", "sex", "weight_kg", "profile"});
     NewSession n;
-    n.mode = parse_mode(string_field(j, "mode", "self"));
-    n.steps = parse_step_set(string_field(j, "steps", "core"));
+    n.mode = parse_mode(text_field(j, "mode", "self"));
+    n.steps = parse_step_set(text_field(j, "steps", "core"));
     n.sex = sex_field(j);
     n.weight_kg = weight_field(j);
-    n.profile = string_field(j, "profile", "");
+    n.profile = text_field(j, "profile", "");
     require_creation_budget(req);  // after the body is checked: a malformed request spends nothing
     const CaptureService::Created c = service().create(n);
     return json_response({{"session", session_json(c.session, true)}, {"pairing_code", c.pairing_code}}, 201);

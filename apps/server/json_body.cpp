@@ -1,5 +1,7 @@
 #include "json_body.h"
 
+#include <cmath>
+
 #include "caliper/errors.h"
 #include "caliper/utf8.h"
 
@@ -16,6 +18,18 @@ void require_utf8(const std::string& text, const std::string& what) {
 
 std::string dump_json(const nlohmann::ordered_json& j, int indent) {
   return j.dump(indent, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+ApiResponse json_response(const nlohmann::ordered_json& j, int status) {
+  ApiResponse r;
+  r.status = status;
+  r.body = dump_json(j);
+  return r;
+}
+
+double round_to(double v, double step) {
+  const double inverse = std::round(1.0 / step);
+  return std::round(v * inverse) / inverse;
 }
 
 nlohmann::ordered_json parse_json_object(const std::string& text, const std::string& what) {

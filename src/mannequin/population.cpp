@@ -165,7 +165,7 @@ GeneratedPopulation generate_population(const std::vector<AnsurSubject>& all, Se
   const Eigen::Index dim = 3 * static_cast<Eigen::Index>(topo.vertex_count);
   pop.bodies.resize(n, dim);
   pop.volumes.assign(static_cast<size_t>(n), 0.0);
-  const std::vector<std::string> errors = detail::parallel_for(
+  const std::vector<std::string> errors = caliper::detail::parallel_for(
       n, threads,
       [&](int i) {
         const AnsurSubject& subject = *pop.subjects[static_cast<size_t>(i)];
@@ -297,7 +297,7 @@ std::vector<RegionCreaseSurvey> survey_creases(const GeneratedPopulation& pop, i
   const std::vector<BodyRegion> regions = vertex_regions(topo.skin_weights, joints);
   const int n = static_cast<int>(pop.bodies.rows());
   std::vector<std::vector<CreaseRegionSummary>> per_body(static_cast<size_t>(n));
-  detail::parallel_for(n, threads, [&](int i) {
+  caliper::detail::parallel_for(n, threads, [&](int i) {
     const Eigen::RowVectorXd flat = pop.bodies.row(i);  // bodies is column-major: copy the row out first
     const Vertices v = Eigen::Map<const Vertices>(flat.data(), topo.vertex_count, 3);
     per_body[static_cast<size_t>(i)] = crease_report(v, topo.faces, regions);
@@ -351,7 +351,7 @@ std::vector<TargetFidelity> survey_fidelity(const GeneratedPopulation& pop, int 
   const Eigen::Index vertex_count = topology().vertex_count;
   // errors(i, r): body i's measured − ANSUR value of row r, metres.
   Eigen::MatrixXd errors(n, static_cast<Eigen::Index>(rows.size()));
-  detail::parallel_for(n, threads, [&](int i) {
+  caliper::detail::parallel_for(n, threads, [&](int i) {
     const AnsurSubject& subject = *pop.subjects[static_cast<size_t>(i)];
     const Eigen::RowVectorXd flat = pop.bodies.row(i);  // bodies is column-major: copy the row out first
     const Vertices v = Eigen::Map<const Vertices>(flat.data(), vertex_count, 3);

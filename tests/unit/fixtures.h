@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "caliper/caliper.h"
 
@@ -18,6 +20,16 @@ Error catch_error(F&& f) {
   }
   ADD_FAILURE() << "no caliper::Error thrown";
   return Error(ErrorKind::Unsupported, "none");
+}
+
+// The kind of the caliper::Error that f throws (a test failure when it throws none), its message
+// and field copied out when asked for.
+template <class F>
+ErrorKind kind_of(F&& f, std::string* message = nullptr, std::string* field = nullptr) {
+  const Error e = catch_error(std::forward<F>(f));
+  if (message) *message = e.what();
+  if (field) *field = e.field();
+  return e.kind();
 }
 
 // Axis-aligned unit cube [0,1]³, 12 outward triangles: volume exactly 1.

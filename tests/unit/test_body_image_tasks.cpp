@@ -13,18 +13,14 @@
 #include "caliper/errors.h"
 #include "fixtures.h"
 #include "temp_files.h"
+#include "test_capture_script.h"
 
 namespace caliper::capture {
 namespace {
 
+using test::options_for;
 using test::TempDir;
 using Status = CaptureService::AnswerStatus;
-
-CaptureServiceOptions options_for(const std::string& db) {
-  CaptureServiceOptions o;
-  o.database = db;
-  return o;
-}
 
 BodyImageAnswer answer_of(double pct) {
   BodyImageAnswer a;

@@ -22,13 +22,8 @@
 namespace caliper::capture {
 namespace {
 
+using test::options_for;
 using test::TempDir;
-
-CaptureServiceOptions options_for(const std::string& db) {
-  CaptureServiceOptions o;
-  o.database = db;
-  return o;
-}
 
 std::string hex(const unsigned char* b, size_t n) {
   static const char* d = "0123456789abcdef";

@@ -6,11 +6,20 @@
 #include <Eigen/Geometry>
 #include <functional>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "caliper/capture/protocol.h"
+#include "caliper/capture/service.h"
 
 namespace caliper::test {
+
+// A capture service's options with only its database file set.
+inline capture::CaptureServiceOptions options_for(const std::string& database) {
+  capture::CaptureServiceOptions o;
+  o.database = database;
+  return o;
+}
 
 using capture::ControllerSample;
 using capture::Hand;

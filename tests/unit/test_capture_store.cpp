@@ -22,15 +22,10 @@ namespace {
 
 using test::SampleScript;
 using test::ScriptedPerson;
+using test::options_for;
 using test::TempDir;
 
 const Eigen::Vector3d kTouchPlus = ProfileRegistry::builtin().find("meta-quest-touch-plus")->tip_offset;
-
-CaptureServiceOptions options_for(const std::string& db) {
-  CaptureServiceOptions o;
-  o.database = db;
-  return o;
-}
 
 void feed_script(CaptureService& svc, const std::string& id, SampleScript& s) {
   for (const auto& b : s.batches()) ASSERT_TRUE(svc.feed(id, b, {"meta-quest-touch-plus"}));

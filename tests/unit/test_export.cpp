@@ -19,6 +19,7 @@
 #include "caliper/body/body_model.h"
 #include "caliper/body/mesh.h"
 #include "caliper/errors.h"
+#include "caliper/measure/geometry.h"
 #include "caliper/export/fbx.h"
 #include "caliper/export/gltf.h"
 #include "fixtures.h"
@@ -36,6 +37,7 @@ using caliper::Error;
 using caliper::ErrorKind;
 using caliper::Faces;
 using caliper::Vertices;
+using caliper::signed_volume;
 using nlohmann::json;
 
 using caliper::test::catch_error;
@@ -70,15 +72,6 @@ Faces tube_faces() {
   Faces faces(static_cast<Eigen::Index>(f.size()), 3);
   for (size_t i = 0; i < f.size(); ++i) faces.row(static_cast<Eigen::Index>(i)) << f[i][0], f[i][1], f[i][2];
   return faces;
-}
-
-double signed_volume(const Vertices& v, const Faces& f) {
-  double vol = 0;
-  for (Eigen::Index i = 0; i < f.rows(); ++i) {
-    const Eigen::Vector3d a = v.row(f(i, 0)), b = v.row(f(i, 1)), c = v.row(f(i, 2));
-    vol += a.dot(b.cross(c)) / 6;
-  }
-  return vol;
 }
 
 // Skin weights (hand-picked so the top-4 choice is known):

@@ -19,10 +19,13 @@
 #include "caliper/makehuman/landmarks.h"
 #include "caliper/makehuman/macro.h"
 #include "caliper/measure/geometry.h"
+#include "fixtures.h"
 #include "temp_files.h"
 
 namespace caliper {
 namespace {
+
+using test::kind_of;
 
 using namespace makehuman;
 
@@ -45,18 +48,6 @@ void write_gz(const std::string& path, const std::string& text) {
   ASSERT_NE(f, nullptr);
   gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
   gzclose(f);
-}
-
-template <class F>
-ErrorKind kind_of(F&& f, std::string* message = nullptr) {
-  try {
-    f();
-  } catch (const Error& e) {
-    if (message) *message = e.what();
-    return e.kind();
-  }
-  ADD_FAILURE() << "no caliper::Error thrown";
-  return ErrorKind::InvalidArgument;
 }
 
 // ---- macro rule (no assets needed) ----

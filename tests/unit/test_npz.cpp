@@ -12,11 +12,13 @@
 #include <limits>
 
 #include "caliper/errors.h"
+#include "fixtures.h"
 #include "temp_files.h"
 #include "caliper/io/npz.h"
 
 using namespace caliper;
 using test::TempDir;
+using test::kind_of;
 using test::read_file;
 using test::write_file;
 namespace fs = std::filesystem;
@@ -66,16 +68,6 @@ std::string utf32le(const std::u32string& s, std::size_t width) {
     for (int b = 0; b < 4; ++b) out += static_cast<char>((c >> (8 * b)) & 0xFF);
   }
   return out;
-}
-
-ErrorKind kind_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.kind();
-  }
-  ADD_FAILURE() << "no caliper::Error thrown";
-  return ErrorKind::Unsupported;
 }
 
 
