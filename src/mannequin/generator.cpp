@@ -2612,23 +2612,30 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // bright one across the cheekbones: a face in stripes).
         {
           const double dy = Y + 2.35;
-          f -= 0.85 * blob(X - 3.1, dy, 1.6, dy < 0 ? 0.9 : 1.35);
+          f -= 0.85 * blob(X - 3.1, dy, 1.9, dy < 0 ? 0.9 : 1.35);
         }
-        f += 0.42 * blob(X - 3.1, Y + 2.7, 1.2, 0.9);    // the eye (lids) inside it
-        f -= 0.22 * blob(X - 3.1, Y + 2.75, 1.25, 0.5);    // the eye's opening between the lids
-        f += 0.12 * blob(X - 3.1, Y + 2.8, 0.7, 0.45);     // the eyeball's front (cornea) in the opening
-        f -= 0.12 * blob(X - 3.0, Y + 2.0, 1.3, 0.45);     // the upper lid's crease
+        // The eye, about 3 cm from corner to corner: a blob is flat only over about half its
+        // radius, so the opening's radius is 1.7 (at 1.25 the eyes read as slits).
+        f += 0.42 * blob(X - 3.1, Y + 2.7, 1.75, 0.95);  // the eye (lids) inside it
+        // The lids' margins, an almond line round the eyeball (a hollow opening with the cornea
+        // standing in it read as a closed, squinting eye).
+        f -= 0.16 * (blob(X - 3.1, Y + 2.75, 1.75, 0.62) - blob(X - 3.1, Y + 2.75, 1.4, 0.4));
+        f -= 0.06 * blob(X - 3.1, Y + 2.75, 1.7, 0.55);  // the eye a little behind the lids
+        f += 0.06 * blob(X - 3.1, Y + 2.8, 1.1, 0.45);   // the eyeball's front (cornea)
+        f -= 0.12 * blob(X - 3.0, Y + 2.0, 1.7, 0.45);   // the upper lid's crease
         f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
         f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
         // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
         {
-          const double y_top = -1.4, y_tip = -5.4, y_base = -6.7, height = 2.3;
+          const double y_top = -1.4, y_tip = -5.4, y_base = -6.9, height = 1.6;
           double prof = 0;
           if (Y <= y_top && Y >= y_tip) prof = std::pow((y_top - Y) / (y_top - y_tip), 1.3);
           else if (Y < y_tip && Y > y_base) prof = 1 - smoothstep(0.0, 1.0, (y_tip - Y) / (y_tip - y_base));
           const double half = std::lerp(1.1, 2.0, std::clamp((y_top - Y) / (y_top - y_tip), 0.0, 1.0));
           f += height * prof * blob(X, 0, half, 1);
-          f += 0.55 * blob(X, Y + 5.4, 1.1, 1.1);  // the tip's rounded end (a wedge without it)
+          // The tip's rounded end, a third of the nose's height: the bridge's ramp alone ended in
+          // a corner, a spike in profile (2.3 high with a 0.55 tip, until 2026-11-28).
+          f += 0.85 * blob(X, Y + 5.5, 1.5, 1.5);
           {  // the nostrils' wings, easing down into the upper lip (a sharp lower edge shaded a moustache)
             const double dy = Y + 5.9;
             f += 0.75 * blob(X - 1.7, dy, 1.0, dy < 0 ? 1.6 : 0.9);
@@ -2641,7 +2648,9 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // weight ends, a trough that made the face a skull's. No cheekbone ridge either: its
         // lit top and shaded underside drew one more band across the face; the cheek is one
         // round fullness.
-        f += 0.40 * blob(X - 3.2, Y + 6.0, 2.0, 2.6);    // the cheek
+        // The cheek, under the eye: full beside the nose and the mouth's corners it rounded into
+        // a grin (0.40 at Y = −6.0).
+        f += 0.28 * blob(X - 3.2, Y + 5.3, 2.0, 2.4);
         f += 0.40 * blob(X - 4.8, Y + 7.2, 2.4, 3.0);    // the cheek's side over the jaw (no gaunt hollow)
         // The muzzle: the teeth's arch carries the mouth forward as a whole, the cheeks round
         // into it (without it the lips sat on a flat plate and the nose's shadow ran out
@@ -2653,12 +2662,13 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         auto lip = [&](double dy, double rx, double ry_up, double ry_down) {
           return blob(X, dy, rx, (dy > 0 ? ry_up : ry_down) * std::sqrt(std::max(0.2, 1 - sq(X / rx))));
         };
-        f += 0.36 * lip(Y + 8.2, 2.1, 1.4, 0.35);        // upper lip
-        f += 0.36 * lip(Y + 8.85, 1.9, 0.4, 0.95);       // lower lip
-        f -= 0.18 * lip(Y + 8.5, 2.2, 0.25, 0.25);       // mouth line, no wider than the lips
+        // The mouth about 5 cm wide (at radii 2.1 and 1.9 it was a child's pout under a grin).
+        f += 0.38 * lip(Y + 8.2, 2.6, 1.4, 0.35);        // upper lip
+        f += 0.40 * lip(Y + 8.85, 2.3, 0.4, 0.95);       // lower lip
+        f -= 0.18 * lip(Y + 8.5, 2.7, 0.25, 0.25);       // mouth line, no wider than the lips
         f -= 0.10 * blob(X, Y + 7.0, 0.45, 0.9);         // the philtrum's groove
-        f -= 0.08 * blob(X - 2.3, Y + 8.5, 0.8, 0.8);    // mouth corners
-        f -= 0.28 * blob(X, Y + 10.3, 2.2, 0.7);         // labiomental fold
+        f -= 0.08 * blob(X - 2.7, Y + 8.5, 0.8, 0.8);    // mouth corners
+        f -= 0.22 * blob(X, Y + 10.3, 1.7, 0.7);         // labiomental fold (wider, it drew a grin's line)
         f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
         // No jaw line of its own: the lifted chin ring is the mandible's lower border, faired
         // into the floor of the mouth (make_fairing()). A ridge along it over a hollow under it
