@@ -108,6 +108,9 @@ constexpr double kJawLift = 0.15;
 // The legs' outward lean in the rest pose (splay_legs()): the feet stand about hip-width apart.
 constexpr double kLegSplay = 4.0 * kPi / 180;
 constexpr double kLegSplayRamp = 0.10;  // m below the crotch (per 1.70 m) over which the lean sets in
+// The feet's turn outward in the rest pose (turn_feet_out()), each about the leg's vertical axis
+// at the malleolus: people stand with their toes a little apart, not parallel.
+constexpr double kToeOut = 8.0 * kPi / 180;
 // The buttocks' cleft (TorsoRing::cleft): its depth on a 24 cm buttock depth (scaled with it), and
 // the distance from the midline at which that depth falls to 1/e (m).
 constexpr double kCleftDepth = 0.035, kCleftWidth = 0.024;
@@ -3253,8 +3256,9 @@ UvLayout uv_layout(const Vertices& rest) {
 // The lean starts gently (its slope grows over the first 10 cm below the crotch, per 1.70 m of
 // stature, where the thighs meet the torso), and below the lateral malleolus the foot moves as one
 // piece. Lengths along the leg grow by 1/cos(kLegSplay) − 1 = 0.24 %; no measured length does.
+// Returns how far the foot moved out.
 namespace {
-void splay_legs(const BodyPlan& P, double sc, std::vector<Vec3>& v) {
+double splay_legs(const BodyPlan& P, double sc, std::vector<Vec3>& v) {
   const double lean = std::tan(kLegSplay), ramp = kLegSplayRamp * sc;
   const double y_top = P.crotch_y, y_foot = P.leg[static_cast<size_t>(leg_key_ring(kMalleolus))].y;
   auto outward = [&](double y) {
@@ -3264,6 +3268,27 @@ void splay_legs(const BodyPlan& P, double sc, std::vector<Vec3>& v) {
   };
   for (Vec3& p : v)
     if (p.y() < y_top && p.x() != 0) p.x() += (p.x() > 0 ? 1 : -1) * outward(p.y());
+  return outward(y_foot);
+}
+
+// The toes turn out by kToeOut, each foot about the vertical through its leg's centre at the
+// lateral malleolus (`foot_shift`: how far splay_legs() moved that centre out). The turn sets in
+// from the ankle's section down to the malleolus' and is whole below it. Each horizontal section
+// turns as a whole about a vertical axis, so every girth and height stays, and the foot's
+// landmarks (heel, toe, its breadth's ends) all lie where the turn is whole, so its length and
+// breadth stay too.
+void turn_feet_out(const BodyPlan& P, double foot_shift, std::vector<Vec3>& v) {
+  const LegRing& malleolus = P.leg[static_cast<size_t>(leg_key_ring(kMalleolus))];
+  const double y_ankle = P.leg[static_cast<size_t>(leg_key_ring(kAnkle))].y;
+  const double axis_x = malleolus.xc + foot_shift, axis_z = malleolus.zc;
+  for (Vec3& p : v) {
+    if (p.y() >= y_ankle || p.x() == 0) continue;
+    const double side = p.x() > 0 ? 1 : -1;  // the left foot turns toward +x, the right toward −x
+    const double t = side * kToeOut * (1 - smoothstep(malleolus.y, y_ankle, p.y()));
+    const double dx = p.x() - side * axis_x, dz = p.z() - axis_z;
+    p.x() = side * axis_x + dx * std::cos(t) + dz * std::sin(t);
+    p.z() = axis_z - dx * std::sin(t) + dz * std::cos(t);
+  }
 }
 }  // namespace
 
@@ -3276,7 +3301,7 @@ Vertices generate(const Dimensions& dims, Sex sex) {
   fair(B.v, hole_bottom_share(P, d));
   add_landmarks(B);
   sculpt(P, d, sex, B);
-  splay_legs(P, d.S / 1.70, B.v);
+  turn_feet_out(P, splay_legs(P, d.S / 1.70, B.v), B.v);
   Vertices out(static_cast<Eigen::Index>(B.v.size()), 3);
   for (size_t i = 0; i < B.v.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = B.v[i].transpose();
   return out;

@@ -712,6 +712,20 @@ TEST(MannequinGenerator, LegsLeanOutIntoARelaxedStance) {
   }
 }
 
+// In a relaxed stance the toes turn out a little: the left foot's axis, from the heel to the
+// middle of the ball (between the breadth's two ends), points outward of straight ahead.
+TEST(MannequinGenerator, FeetTurnOutInTheStance) {
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const auto& lm = mq::topology().landmarks;
+    const Eigen::RowVector3d heel = v.row(lm.at("heel_left"));
+    const Eigen::RowVector3d ball = 0.5 * (v.row(lm.at("foot_medial_left")) + v.row(lm.at("foot_lateral_left")));
+    const double degrees = std::atan2(ball.x() - heel.x(), ball.z() - heel.z()) * 180 / std::acos(-1.0);
+    EXPECT_GE(degrees, 4.0) << to_string(sex) << ", " << d.at("stature") << " m tall";
+    EXPECT_LE(degrees, 15.0) << to_string(sex) << ", " << d.at("stature") << " m tall";
+  }
+}
+
 // SMPL and SMPL-H pose data drive the rig by joint name: SMPL's 72 values and SMPL-H's
 // 156 land on the joints they name; a model without fingers drops SMPL-H's finger values.
 TEST(PoseFromValues, SmplAndSmplhValuesLandOnTheirJoints) {
