@@ -140,7 +140,7 @@ Eigen::Matrix4d rest_world(const ExportRig& rig, int j) {
   return m;
 }
 
-void check_inputs(const BodyModel& model, const Vertices& rest) {
+void check_fbx_inputs(const BodyModel& model, const Vertices& rest) {
   if (rest.rows() != model.vertex_count())
     throw Error(ErrorKind::InvalidArgument,
                 "FBX export: " + std::to_string(rest.rows()) + " vertices given, model '" + model.name() + "' has " +
@@ -424,7 +424,7 @@ class SceneBuilder {
 }  // namespace
 
 std::string write_fbx(const BodyModel& model, const Vertices& rest, const ExportOptions& options) {
-  check_inputs(model, rest);
+  check_fbx_inputs(model, rest);
   return SceneBuilder(model, rest, options).bytes();
 }
 

@@ -113,7 +113,7 @@ class BinaryBuilder {
   std::vector<unsigned char> data_;
 };
 
-void check_inputs(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
+void check_glb_inputs(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
   if (rest.rows() != model.vertex_count())
     throw Error(ErrorKind::InvalidArgument,
                 "glTF export: " + std::to_string(rest.rows()) + " vertices given, model '" + model.name() +
@@ -143,7 +143,7 @@ namespace {
 
 // The glTF document before its provenance: tinygltf's output, parsed back by write_glb.
 std::string tinygltf_glb(const BodyModel& model, const Vertices& rest, const GlbOptions& options) {
-  check_inputs(model, rest, options);
+  check_glb_inputs(model, rest, options);
   const auto& data = model.data();
   const int joint_count = model.joint_count();
   const UvSplitMesh& split = model.uv_split();

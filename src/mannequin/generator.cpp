@@ -10,7 +10,8 @@
 //
 // After the rings, the shoulder and the groin are faired (fair()) and anatomy is drawn on the surface as
 // horizontal displacements that keep every target (sculpt(), "Relief" below; docs/mannequin.md);
-// last, the legs lean out into a relaxed stance (splay_legs(), which keeps every section's shape).
+// last, the legs lean out into a relaxed stance and the toes turn out (splay_legs() and
+// turn_feet_out(), which keep every section's shape).
 //
 // Fidelity by construction (brief; paper §3.2 for how Caliper measures): every imposed
 // breadth/depth/circumference sits on a planar ring, so the plane section through its landmark is
@@ -2618,7 +2619,8 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           f -= 0.85 * blob(X - 3.1, dy, 1.9, dy < 0 ? 0.9 : 1.35);
         }
         // The eye, about 3 cm from corner to corner: a blob is flat only over about half its
-        // radius, so the opening's radius is 1.7 (at 1.25 the eyes read as slits).
+        // radius, so the eye and its lids' line reach 1.75 out (an opening of radius 1.25 read as
+        // a slit).
         f += 0.42 * blob(X - 3.1, Y + 2.7, 1.75, 0.95);  // the eye (lids) inside it
         // The lids' margins, an almond line round the eyeball (a hollow opening with the cornea
         // standing in it read as a closed, squinting eye).
@@ -2668,10 +2670,10 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // The mouth about 5 cm wide (at radii 2.1 and 1.9 it was a child's pout under a grin).
         f += 0.38 * lip(Y + 8.2, 2.6, 1.4, 0.35);        // upper lip
         f += 0.40 * lip(Y + 8.85, 2.3, 0.4, 0.95);       // lower lip
-        f -= 0.18 * lip(Y + 8.5, 2.7, 0.25, 0.25);       // mouth line, no wider than the lips
+        f -= 0.18 * lip(Y + 8.5, 2.7, 0.25, 0.25);       // mouth line, about as wide as the lips
         f -= 0.10 * blob(X, Y + 7.0, 0.45, 0.9);         // the philtrum's groove
         f -= 0.08 * blob(X - 2.7, Y + 8.5, 0.8, 0.8);    // mouth corners
-        f -= 0.22 * blob(X, Y + 10.3, 1.7, 0.7);         // labiomental fold (wider, it drew a grin's line)
+        f -= 0.22 * blob(X, Y + 10.3, 1.7, 0.7);         // labiomental fold (2.2 wide, it drew a grin's line)
         f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
         // No jaw line of its own: the lifted chin ring is the mandible's lower border, faired
         // into the floor of the mouth (make_fairing()). A ridge along it over a hollow under it

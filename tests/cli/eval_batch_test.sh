@@ -20,6 +20,8 @@ if [ -f "$ANSUR_F" ]; then
   # The linear limit fitted on one part of the women (all but the first 200), tested on another
   # (the first 200; the sanitizer build's ctest sets CALIPER_EVAL_TEST_SUBJECTS=60).
   tested="${CALIPER_EVAL_TEST_SUBJECTS:-200}"
+  case "$tested" in ''|*[!0-9]*) tested=200 ;; esac
+  [ "$tested" -ge 1 ] && [ "$tested" -le 200 ] || tested=200  # never into the training rows
   head -$((tested + 1)) "$ANSUR_F" >"$TMP/test.csv"; { head -1 "$ANSUR_F"; tail -n +202 "$ANSUR_F"; } >"$TMP/train.csv"
   expect 0 "eval with --train" "$CALIPER" eval --subjects "$TMP/test.csv" --train "$TMP/train.csv" --regressor R2,auto --json "$TMP/lin.json"
   says "linear limit: 1290 training subjects" "the training file is used and counted"

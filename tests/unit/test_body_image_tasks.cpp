@@ -18,7 +18,7 @@
 namespace caliper::capture {
 namespace {
 
-using test::options_for;
+using test::service_options;
 using test::TempDir;
 using Status = CaptureService::AnswerStatus;
 
@@ -43,7 +43,7 @@ long long user_version(const std::string& db) {
   return v;
 }
 
-void exec(const std::string& db, const std::string& sql) {
+void run_sql(const std::string& db, const std::string& sql) {
   sqlite3* h = nullptr;
   ASSERT_EQ(sqlite3_open(db.c_str(), &h), SQLITE_OK);
   char* err = nullptr;
@@ -59,7 +59,7 @@ TEST(BodyImageTasks, OneRunningTaskAnsweredOnceAndKeptAcrossAServiceRestart) {
   const std::string db = dir / "sessions.db";
   std::string id, adjust_id;
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     NewSession n;
     n.weight_kg = 64;
     id = svc.create(n).session.id;
@@ -90,7 +90,7 @@ TEST(BodyImageTasks, OneRunningTaskAnsweredOnceAndKeptAcrossAServiceRestart) {
     EXPECT_FALSE(r.task->answer->chosen_bmi);
     EXPECT_EQ(svc.answer_task(id, adjust_id, answer_of(5)).status, Status::NotRunning);
   }
-  CaptureService again(options_for(db));
+  CaptureService again(service_options(db));
   const auto tasks = again.tasks(id);
   ASSERT_TRUE(tasks);
   ASSERT_EQ(tasks->size(), 2u);
@@ -114,20 +114,20 @@ TEST(BodyImageTasks, ASchema2DatabaseGainsTheTableAndANewerOneIsRefused) {
   const std::string db = dir / "sessions.db";
   std::string id;
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     id = svc.create({}).session.id;
   }
   EXPECT_EQ(user_version(db), 3);
-  exec(db, "DROP TABLE body_image_tasks; PRAGMA user_version = 2;");
+  run_sql(db, "DROP TABLE body_image_tasks; PRAGMA user_version = 2;");
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     ASSERT_TRUE(svc.find(id));
     ASSERT_TRUE(svc.start_task(id, NewBodyImageTask{}));
     EXPECT_EQ(svc.tasks(id)->size(), 1u);
   }
   EXPECT_EQ(user_version(db), 3);
-  exec(db, "PRAGMA user_version = 4;");
-  const Error e = test::catch_error([&] { CaptureService svc(options_for(db)); });
+  run_sql(db, "PRAGMA user_version = 4;");
+  const Error e = test::catch_error([&] { CaptureService svc(service_options(db)); });
   EXPECT_EQ(e.kind(), ErrorKind::Format);
   EXPECT_NE(std::string(e.what()).find("schema version 4"), std::string::npos) << e.what();
   EXPECT_EQ(user_version(db), 4);  // left untouched

@@ -22,7 +22,7 @@
 namespace caliper::capture {
 namespace {
 
-using test::options_for;
+using test::service_options;
 using test::TempDir;
 
 std::string hex(const unsigned char* b, size_t n) {
@@ -59,7 +59,7 @@ std::string another_code(const std::string& code, int k) {
   return w;
 }
 
-void exec(sqlite3* db, const std::string& sql) {
+void exec_sql(sqlite3* db, const std::string& sql) {
   char* err = nullptr;
   ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err), SQLITE_OK) << (err ? err : "") << "\n" << sql;
 }
@@ -67,7 +67,7 @@ void exec(sqlite3* db, const std::string& sql) {
 TEST(CapturePairing, TheVerifierIsPbkdf2OfTheCodeWithARandomSaltAndNotAFastHash) {
   TempDir dir;
   const std::string db = dir / "sessions.db";
-  CaptureService svc(options_for(db));
+  CaptureService svc(service_options(db));
   const auto a = svc.create({});
   const auto b = svc.create({});
   SessionStore store(db);
@@ -92,7 +92,7 @@ TEST(CapturePairing, TheVerifierIsPbkdf2OfTheCodeWithARandomSaltAndNotAFastHash)
 
   // Only the right code verifies; a fresh service (nothing remembered) takes the slow path, and
   // that path is slow: at least 5 ms per code here (measured ~60-130 ms; load only adds to it).
-  CaptureService fresh(options_for(db));
+  CaptureService fresh(service_options(db));
   EXPECT_EQ(fresh.check_pairing(a.session.id, b.pairing_code == a.pairing_code ? another_code(a.pairing_code, 0) : b.pairing_code).status,
             PairingStatus::WrongCode);
   for (int k = 1; k < 4; ++k) EXPECT_EQ(fresh.check_pairing(a.session.id, another_code(a.pairing_code, k)).status, PairingStatus::WrongCode);
@@ -114,7 +114,7 @@ TEST(CapturePairing, WrongCodesLockTheSessionAcrossARestartUntilANewCodeIsIssued
   const std::string db = dir / "sessions.db";
   std::string id, code;
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     const auto c = svc.create({});
     id = c.session.id;
     code = c.pairing_code;
@@ -136,7 +136,7 @@ TEST(CapturePairing, WrongCodesLockTheSessionAcrossARestartUntilANewCodeIsIssued
     EXPECT_TRUE(svc.check_pairing(id, code).paired());
     EXPECT_TRUE(svc.check_pairing(other.session.id, other.pairing_code).paired());
   }
-  CaptureService svc(options_for(db));  // a restart keeps the count
+  CaptureService svc(service_options(db));  // a restart keeps the count
   for (int k = 6; k < 9; ++k) EXPECT_EQ(svc.check_pairing(id, another_code(code, k)).status, PairingStatus::WrongCode);
   const PairingCheck tenth = svc.check_pairing(id, another_code(code, 9));
   EXPECT_EQ(tenth.status, PairingStatus::Locked);
@@ -145,7 +145,7 @@ TEST(CapturePairing, WrongCodesLockTheSessionAcrossARestartUntilANewCodeIsIssued
   EXPECT_EQ(svc.check_pairing(id, another_code(code, 10)).status, PairingStatus::Locked);
   EXPECT_EQ(SessionStore(db).pairing(id)->failures, 10) << "refusals after the lock are not even tried";
   {
-    CaptureService restarted(options_for(db));
+    CaptureService restarted(service_options(db));
     EXPECT_EQ(restarted.check_pairing(id, code).status, PairingStatus::Locked);
   }
   const std::optional<std::string> fresh = svc.reissue_pairing(id);
@@ -167,7 +167,7 @@ TEST(CapturePairing, WrongCodesLockTheSessionAcrossARestartUntilANewCodeIsIssued
 TEST(CapturePairing, ConcurrentGuessesCannotOvershootTheBudget) {
   TempDir dir;
   const std::string db = dir / "sessions.db";
-  CaptureService svc(options_for(db));
+  CaptureService svc(service_options(db));
   const auto c = svc.create({});
   std::atomic<int> wrong{0}, locked{0}, paired{0};
   std::vector<std::thread> threads;
@@ -199,7 +199,7 @@ TEST(CapturePairing, AnOldSha256VerifierIsRefusedNotAcceptedUntilANewCodeIsIssue
   std::string id;
   const std::string code = "482913", salt = "0123456789abcdef";
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     id = svc.create({}).session.id;
     test::SampleScript s(ProfileRegistry::builtin().find("meta-quest-touch-plus")->tip_offset, 7);
     test::script_floor(s, person);
@@ -208,13 +208,13 @@ TEST(CapturePairing, AnOldSha256VerifierIsRefusedNotAcceptedUntilANewCodeIsIssue
   {
     sqlite3* h = nullptr;
     ASSERT_EQ(sqlite3_open(db.c_str(), &h), SQLITE_OK);
-    exec(h, "ALTER TABLE sessions DROP COLUMN pairing_failures");
-    exec(h, "DROP TABLE body_image_tasks");  // schema 3's
-    exec(h, "UPDATE sessions SET pairing_hash = '" + salt + "$" + sha256_hex(salt + code) + "'");
-    exec(h, "PRAGMA user_version = 1");
+    exec_sql(h, "ALTER TABLE sessions DROP COLUMN pairing_failures");
+    exec_sql(h, "DROP TABLE body_image_tasks");  // schema 3's
+    exec_sql(h, "UPDATE sessions SET pairing_hash = '" + salt + "$" + sha256_hex(salt + code) + "'");
+    exec_sql(h, "PRAGMA user_version = 1");
     sqlite3_close(h);
   }
-  CaptureService svc(options_for(db));
+  CaptureService svc(service_options(db));
   ASSERT_TRUE(svc.find(id));
   EXPECT_EQ(svc.find(id)->protocol.points().size(), 5u);
   EXPECT_EQ(svc.check_pairing(id, code).status, PairingStatus::Outdated);
@@ -230,7 +230,7 @@ TEST(CapturePairing, AnOldSha256VerifierIsRefusedNotAcceptedUntilANewCodeIsIssue
                                 "pbkdf2-sha256$200000$zz$" + std::string(64, 'a'), std::string("")}) {
     sqlite3* h = nullptr;
     ASSERT_EQ(sqlite3_open(db.c_str(), &h), SQLITE_OK);
-    exec(h, "UPDATE sessions SET pairing_hash = '" + bad + "'");
+    exec_sql(h, "UPDATE sessions SET pairing_hash = '" + bad + "'");
     sqlite3_close(h);
     EXPECT_EQ(svc.check_pairing(id, *fresh).status, PairingStatus::Outdated) << bad;
   }
@@ -240,7 +240,7 @@ TEST(CapturePairing, AnOldSha256VerifierIsRefusedNotAcceptedUntilANewCodeIsIssue
 // from the store with their points; listing every session does not fill it.
 TEST(CaptureServiceCache, SessionsBeyondTheBoundAreDroppedAndReloadedFromTheStore) {
   TempDir dir;
-  CaptureServiceOptions o = options_for(dir / "sessions.db");
+  CaptureServiceOptions o = service_options(dir / "sessions.db");
   o.max_cached_sessions = 4;
   CaptureService svc(o);
   test::ScriptedPerson person;

@@ -15,7 +15,7 @@
 namespace caliper::test {
 
 // A capture service's options with only its database file set.
-inline capture::CaptureServiceOptions options_for(const std::string& database) {
+inline capture::CaptureServiceOptions service_options(const std::string& database) {
   capture::CaptureServiceOptions o;
   o.database = database;
   return o;

@@ -22,7 +22,7 @@ namespace {
 
 using test::SampleScript;
 using test::ScriptedPerson;
-using test::options_for;
+using test::service_options;
 using test::TempDir;
 
 const Eigen::Vector3d kTouchPlus = ProfileRegistry::builtin().find("meta-quest-touch-plus")->tip_offset;
@@ -39,7 +39,7 @@ TEST(CaptureStore, ASessionKilledMidwayResumesWithTheSameValues) {
   ScriptedPerson person;
   std::string id, code;
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     auto c = svc.create({Mode::Self, StepSet::Core, Sex::Male, std::nullopt, ""});
     id = c.session.id;
     code = c.pairing_code;
@@ -47,7 +47,7 @@ TEST(CaptureStore, ASessionKilledMidwayResumesWithTheSameValues) {
   const pid_t child = fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     SampleScript s(kTouchPlus, 21);
     test::script_floor(s, person);
     for (int rep = 0; rep < 2; ++rep) s.hold(1, person.head_top, 1.2);
@@ -62,7 +62,7 @@ TEST(CaptureStore, ASessionKilledMidwayResumesWithTheSameValues) {
   waitpid(child, &status, 0);
   ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
 
-  CaptureService resumed(options_for(db));
+  CaptureService resumed(service_options(db));
   auto s0 = resumed.find(id);
   ASSERT_TRUE(s0);
   EXPECT_EQ(s0->protocol.points().size(), 8u);  // 5 floor taps, 2 statures, 1 span
@@ -94,7 +94,7 @@ TEST(CaptureStore, ASessionKilledMidwayResumesWithTheSameValues) {
   EXPECT_EQ(stored->state, "done");
   ASSERT_EQ(stored->values.size(), set.size());
   for (const auto& [k, v] : set) EXPECT_DOUBLE_EQ(stored->values.at(k), v) << k;
-  CaptureService third(options_for(db));
+  CaptureService third(service_options(db));
   EXPECT_EQ(third.find(id)->protocol.measurement_set(), set);
 }
 
@@ -104,7 +104,7 @@ TEST(CaptureStore, UndoAndRedoSurviveARestart) {
   ScriptedPerson person;
   std::string id;
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     id = svc.create({}).session.id;
     SampleScript s(kTouchPlus, 4);
     test::script_floor(s, person);
@@ -115,14 +115,14 @@ TEST(CaptureStore, UndoAndRedoSurviveARestart) {
     svc.undo(id);
   }
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     auto s = svc.find(id);
     ASSERT_TRUE(s);
     EXPECT_EQ(s->protocol.points().size(), 3u);
     EXPECT_EQ(s->protocol.redo_points().size(), 2u);
     svc.redo(id);
   }
-  CaptureService svc(options_for(db));
+  CaptureService svc(service_options(db));
   auto s = svc.find(id);
   EXPECT_EQ(s->protocol.points().size(), 4u);
   EXPECT_EQ(s->protocol.redo_points().size(), 1u);
@@ -139,7 +139,7 @@ TEST(CaptureStore, PairingCodesAreSixDigitsCheckedAndNeverStoredInClear) {
   const std::string db = dir / "sessions.db";
   std::string id, code;
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     auto c = svc.create({});
     id = c.session.id;
     code = c.pairing_code;
@@ -183,7 +183,7 @@ TEST(CaptureStore, CorruptAndForeignFilesAreRefusedAndLeftUntouched) {
   sqlite3_close(db);
   const std::string before = test::read_file(foreign);
   try {
-    CaptureService svc(options_for(foreign));
+    CaptureService svc(service_options(foreign));
     FAIL() << "opened another application's database";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::Format);
@@ -194,7 +194,7 @@ TEST(CaptureStore, CorruptAndForeignFilesAreRefusedAndLeftUntouched) {
   // A Caliper file whose pages were damaged after the header.
   const std::string damaged = dir / "damaged.db";
   {
-    CaptureService svc(options_for(damaged));
+    CaptureService svc(service_options(damaged));
     for (int i = 0; i < 30; ++i) svc.create({});
   }
   std::string bytes = test::read_file(damaged);
@@ -220,14 +220,14 @@ TEST(CaptureStore, TheDatabaseItsWalFilesAndTheirFolderAreOwnerOnly) {
   const std::string data = dir / "new-data-folder";
   const std::string db = SessionStore::path_in(data);
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     svc.create({});  // a write: SQLite creates the -wal and -shm files
     EXPECT_EQ(mode_of(data), 0700u);
     for (const std::string& f : {db, db + "-wal", db + "-shm"}) EXPECT_EQ(mode_of(f), 0600u) << f;
   }
   ASSERT_EQ(::chmod(db.c_str(), 0644), 0);
   {
-    CaptureService svc(options_for(db));
+    CaptureService svc(service_options(db));
     svc.create({});
     for (const std::string& f : {db, db + "-wal", db + "-shm"}) EXPECT_EQ(mode_of(f), 0600u) << f;
   }
@@ -250,7 +250,7 @@ TEST(CaptureStore, DefaultPathFollowsXdgDataHome) {
 
 TEST(CaptureService, ListsNewestFirstAndDeletes) {
   TempDir dir;
-  CaptureService svc(options_for(dir / "s.db"));
+  CaptureService svc(service_options(dir / "s.db"));
   const std::string a = svc.create({}).session.id;
   const std::string b = svc.create({Mode::Other, StepSet::All, Sex::Female, 55.0, "htc-vive"}).session.id;
   auto list = svc.list();
@@ -275,11 +275,11 @@ TEST(CaptureService, ListsNewestFirstAndDeletes) {
 // the server must not go on serving it, nor write points for it.
 TEST(CaptureService, ASessionDeletedByAnotherProcessIsGone) {
   TempDir dir;
-  CaptureService server(options_for(dir / "s.db"));
+  CaptureService server(service_options(dir / "s.db"));
   const std::string id = server.create({}).session.id;
   ASSERT_TRUE(server.find(id));
   {
-    CaptureService other(options_for(dir / "s.db"));
+    CaptureService other(service_options(dir / "s.db"));
     EXPECT_TRUE(other.remove(id));
   }
   EXPECT_FALSE(server.find(id));

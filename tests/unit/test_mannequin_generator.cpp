@@ -712,17 +712,20 @@ TEST(MannequinGenerator, LegsLeanOutIntoARelaxedStance) {
   }
 }
 
-// In a relaxed stance the toes turn out a little: the left foot's axis, from the heel to the
-// middle of the ball (between the breadth's two ends), points outward of straight ahead.
+// In a relaxed stance the toes turn out a little: each foot's axis, from the heel to the middle
+// of the ball (between the breadth's two ends), points outward of straight ahead (+x on the left,
+// −x on the right).
 TEST(MannequinGenerator, FeetTurnOutInTheStance) {
   for (const auto& [d, sex] : sample_bodies()) {
     const Vertices v = mq::generate(d, sex);
     const auto& lm = mq::topology().landmarks;
-    const Eigen::RowVector3d heel = v.row(lm.at("heel_left"));
-    const Eigen::RowVector3d ball = 0.5 * (v.row(lm.at("foot_medial_left")) + v.row(lm.at("foot_lateral_left")));
-    const double degrees = std::atan2(ball.x() - heel.x(), ball.z() - heel.z()) * 180 / std::acos(-1.0);
-    EXPECT_GE(degrees, 4.0) << to_string(sex) << ", " << d.at("stature") << " m tall";
-    EXPECT_LE(degrees, 15.0) << to_string(sex) << ", " << d.at("stature") << " m tall";
+    for (const auto& [side, outward] : {std::pair{std::string("_left"), 1.0}, std::pair{std::string("_right"), -1.0}}) {
+      const Eigen::RowVector3d heel = v.row(lm.at("heel" + side));
+      const Eigen::RowVector3d ball = 0.5 * (v.row(lm.at("foot_medial" + side)) + v.row(lm.at("foot_lateral" + side)));
+      const double degrees = std::atan2(outward * (ball.x() - heel.x()), ball.z() - heel.z()) * 180 / std::acos(-1.0);
+      EXPECT_GE(degrees, 4.0) << to_string(sex) << side << ", " << d.at("stature") << " m tall";
+      EXPECT_LE(degrees, 15.0) << to_string(sex) << side << ", " << d.at("stature") << " m tall";
+    }
   }
 }
 

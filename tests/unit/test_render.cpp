@@ -82,7 +82,7 @@ Image decode(const std::string& png) {
 }
 
 // Axis-aligned box centred at `c` with half sizes h, faces wound counter-clockwise from outside.
-Mesh box(Eigen::Vector3d c, Eigen::Vector3d h) {
+Mesh centred_box(Eigen::Vector3d c, Eigen::Vector3d h) {
   Mesh m;
   m.vertices.resize(8, 3);
   for (int i = 0; i < 8; ++i)
@@ -139,7 +139,7 @@ bool is_grey(const std::uint8_t* p) {
 bool is_red(const std::uint8_t* p) { return p[0] > 60 && p[0] > 2 * p[1] && p[0] > 2 * p[2]; }
 
 TEST(Png, SignatureAndHeaderCarryTheSize) {
-  const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
+  const Mesh cube = centred_box({0, 0.5, 0}, {0.5, 0.5, 0.5});
   RenderOptions o;
   o.width = 40;
   o.height = 70;
@@ -163,7 +163,7 @@ TEST(Png, EncodeRoundTripsExactBytes) {
 }
 
 TEST(Render, CubeCoversTheCentreAndLeavesCornersBackground) {
-  const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
+  const Mesh cube = centred_box({0, 0.5, 0}, {0.5, 0.5, 0.5});
   RenderOptions o;
   o.width = 120;
   o.height = 160;
@@ -180,7 +180,7 @@ TEST(Render, CubeCoversTheCentreAndLeavesCornersBackground) {
 }
 
 TEST(Render, DefaultBodyColourIsWarmOnACoolGreyBackground) {
-  const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
+  const Mesh cube = centred_box({0, 0.5, 0}, {0.5, 0.5, 0.5});
   RenderOptions o;
   o.width = 60;
   o.height = 90;
@@ -195,7 +195,7 @@ TEST(Render, DefaultBodyColourIsWarmOnACoolGreyBackground) {
 TEST(Render, CheckerTextureFollowsTheUvs) {
   // The box's UVs project it along z: the front face fills one checker square, light (warm) or
   // dark (blue) depending on which square the UVs put it in.
-  const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
+  const Mesh cube = centred_box({0, 0.5, 0}, {0.5, 0.5, 0.5});
   RenderOptions o;
   o.width = 60;
   o.height = 90;
@@ -232,7 +232,7 @@ Mesh sphere_in_fixed_frame(double radius) {
   Mesh scene = uv_sphere({0, 0, 0}, radius);
   for (Eigen::Vector3d c : {Eigen::Vector3d(-1, -1, 0), Eigen::Vector3d(1, -1, 0), Eigen::Vector3d(-1, 1, 0),
                             Eigen::Vector3d(1, 1, 0)})
-    scene = merge(scene, box(c, {0.01, 0.01, 0.01}));
+    scene = merge(scene, centred_box(c, {0.01, 0.01, 0.01}));
   return scene;
 }
 
@@ -273,8 +273,8 @@ std::array<int, 4> red_bounds(const Image& img, int x0, int x1) {
 // image's right: a wide slab behind (−Z) and a narrow post on the left-front (+X, +Z), seen from
 // above, put the slab's pixels in the upper half and the post right of the centre and low.
 TEST(Render, TopViewLooksDownWithTheFrontAtTheBottom) {
-  const Mesh slab = box({0, 0.3, -0.4}, {0.6, 0.3, 0.1});
-  const Mesh post = box({0.4, 0.3, 0.4}, {0.1, 0.3, 0.1});
+  const Mesh slab = centred_box({0, 0.3, -0.4}, {0.6, 0.3, 0.1});
+  const Mesh post = centred_box({0.4, 0.3, 0.4}, {0.1, 0.3, 0.1});
   Mesh both;
   both.vertices.resize(16, 3);
   both.vertices << slab.vertices, post.vertices;
@@ -299,7 +299,7 @@ TEST(Render, TopViewLooksDownWithTheFrontAtTheBottom) {
 
 TEST(Render, ViewsShareOneScale) {
   // A 2 × 1 × 0.5 m box: 2 m wide seen from the front, 0.5 m seen from the side, 1 m tall in both.
-  const Mesh slab = box({0, 0.5, 0}, {1.0, 0.5, 0.25});
+  const Mesh slab = centred_box({0, 0.5, 0}, {1.0, 0.5, 0.25});
   RenderOptions o;
   o.width = 200;
   o.height = 150;
@@ -323,7 +323,7 @@ TEST(Render, ViewsShareOneScale) {
 // picture; framed on it, it fills most of the picture, centred.
 TEST(Render, FocusFramesTheGivenSphere) {
   const Eigen::Vector3d head_c(0, 1.7, 0);
-  Mesh scene = merge(box({0, 0.8, 0}, {0.2, 0.8, 0.12}), uv_sphere(head_c, 0.1));
+  Mesh scene = merge(centred_box({0, 0.8, 0}, {0.2, 0.8, 0.12}), uv_sphere(head_c, 0.1));
   RenderOptions o;
   o.width = 200;
   o.height = 200;
@@ -352,7 +352,7 @@ TEST(Render, FocusFramesTheGivenSphere) {
 }
 
 TEST(Render, HeatMapRunsFromBlueToRed) {
-  const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
+  const Mesh cube = centred_box({0, 0.5, 0}, {0.5, 0.5, 0.5});
   RenderOptions o;
   o.width = 120;
   o.height = 120;
@@ -374,7 +374,7 @@ TEST(Render, SameInputGivesSameBytes) {
 }
 
 TEST(Render, BadInputThrowsNamingTheField) {
-  const Mesh cube = box({0, 0.5, 0}, {0.5, 0.5, 0.5});
+  const Mesh cube = centred_box({0, 0.5, 0}, {0.5, 0.5, 0.5});
   std::string field;
   EXPECT_EQ(kind_of([&] { render_png(Vertices(0, 3), cube.faces); }, nullptr, &field), ErrorKind::InvalidArgument);
   EXPECT_EQ(field, "vertices");
