@@ -115,6 +115,11 @@ constexpr double kToeOut = 8.0 * kPi / 180;
 // The buttocks' cleft (TorsoRing::cleft): its depth on a 24 cm buttock depth (scaled with it), and
 // the distance from the midline at which that depth falls to 1/e (m).
 constexpr double kCleftDepth = 0.035, kCleftWidth = 0.024;
+// The seat in profile: the thigh's centre stands this share of the buttock depth in front of the
+// hip section's middle, and the buttocks' back from the hip ring down to the legs' first ring
+// follows 1 − (1 − u)^kSeatRoundUnder (u = 1 at the hip ring): full, then rounding under.
+constexpr double kThighForward = 0.08;
+constexpr double kSeatRoundUnder = 3.0;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
 constexpr double kEarDensity = 2.0;   // and across the ears
@@ -1226,8 +1231,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
         if (r.al + r.am <= half_hip - 0.004) break;
       }
       r.xc = std::max(r.am + 0.004, half_hip - r.al * 1.02);
-      // Centred under the middle of the hip section (buttocks protrude behind, not the thighs).
-      r.zc = K[kHip].cz + (hip_front - 0.5) * d.bd;
+      // A little in front of the middle of the hip section: ANSUR's proximal thigh girth makes
+      // the thigh nearly as deep as the buttocks, and centred under them its back was flush with
+      // theirs, so from the side the buttocks did not stand out over the thighs at all.
+      r.zc = K[kHip].cz + (hip_front - 0.5 + kThighForward) * d.bd;
     }
     // medial: the inner half-breadth is 1 + medial, the outer 1 − medial (shares, before the fit).
     auto make = [&](LegRing& r, double c, double xc, double zc, double depth_ratio, double calf, double medial = 0) {
@@ -1329,9 +1336,14 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       for (int k = 1; k < kh; ++k) {
         TorsoRing& r = P.torso[static_cast<size_t>(k)];
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
-        r.a = P.hip_outline(r.y + P.torso_tilt_side[static_cast<size_t>(k)]); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e);
-        r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e);
-        r.cleft = std::lerp(b.cleft, h.cleft, e);
+        // The buttocks stay full well down from the hip ring and round under into the fold over
+        // the thighs: behind, the blend leaves the bottom ring steeply (with the smooth step the
+        // back ran from the hip ring to the thighs in one straight slope, and the buttocks did
+        // not stand out from the side).
+        const double e_back = 1 - std::pow(1 - u, kSeatRoundUnder);
+        r.a = P.hip_outline(r.y + P.torso_tilt_side[static_cast<size_t>(k)]); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e_back);
+        r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e_back);
+        r.cleft = std::lerp(b.cleft, h.cleft, e_back);
         r.bust = std::lerp(b.bust, 0.0, e); r.bust_t = b.bust_t; r.bust_w = b.bust_w; r.bust_w_out = b.bust_w_out;
       }
       P.crotch_z = std::clamp(t.zc, b.cz - 0.5 * b.db, b.cz + 0.5 * b.df);
@@ -2769,9 +2781,9 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           const double xe = thigh_out;
           const double yf = y_gf - 1.5 * cm * sq(std::min(1.0, x / xe));
           const double dy = y - yf;
-          const double prof = dy > 0 ? blob(dy, 0, 2.5 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
+          const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.0 * cm, 1);
           // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
-          h -= back * 0.30 * cm * smoothstep(2.0 * cm, 5.0 * cm, y_gf - P.crotch_y) * prof * window(x, 1.0 * cm, 3.5 * cm, 0.75 * xe, 0.95 * xe);
+          h -= back * 0.55 * cm * smoothstep(2.0 * cm, 5.0 * cm, y_gf - P.crotch_y) * prof * window(x, 1.0 * cm, 3.5 * cm, 0.75 * xe, 0.95 * xe);
         }
         // Shoulder blades.
         const double ys = y_ch + 0.55 * (y_acr - y_ch), ry = std::max(0.5 * cm, 0.4 * (y_acr - y_ch));

@@ -694,6 +694,26 @@ TEST(MannequinGenerator, ButtocksMeetInACleft) {
   }
 }
 
+// From the side the buttocks stand out over the thighs: the cheek's back-most point on the
+// buttock's section (the hip ring) lies at least 1.5 cm (per 1.70 m) behind the thigh's back-most
+// point on the thigh's girth section. ANSUR's proximal thigh girth makes the thigh nearly as deep
+// as the buttocks; centred under them (before 2026-11-28) its back was within 1 cm of theirs and
+// the seat ran straight down into the thighs.
+TEST(MannequinGenerator, ButtocksStandOutOverTheThighs) {
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const auto& lm = mq::topology().landmarks;
+    const Faces& f = mq::topology().faces;
+    const double cm = 0.01 * d.at("stature") / 1.70;
+    const double cheek = extreme_z(cut(v, f, v(lm.at("buttock_back"), 1)), 6.0 * cm, 3.5 * cm, -1);
+    double thigh = 1e9;
+    for (const auto& p : cut(v, f, v(lm.at("thigh_left"), 1)))
+      if (p.x() > 0) thigh = std::min(thigh, p.z());
+    ASSERT_LT(thigh, 1e8) << to_string(sex);
+    EXPECT_GE(thigh - cheek, 1.5 * cm) << to_string(sex) << ", " << d.at("stature") << " m tall";
+  }
+}
+
 // The legs lean out (a relaxed stance, the feet about hip-width apart): from the knee down to the
 // ankle the middle of the leg's section moves outward by at least 2° of lean (the generator leans
 // them 4°, and the lower leg's rings themselves draw in by about 1°). Before 2026-11-28 the legs
