@@ -116,8 +116,9 @@ constexpr double kToeOut = 8.0 * kPi / 180;
 // the distance from the midline at which that depth falls to 1/e (m).
 constexpr double kCleftDepth = 0.035, kCleftWidth = 0.024;
 // The seat in profile: the thigh's centre stands this share of the buttock depth in front of the
-// hip section's middle, and the buttocks' back from the hip ring down to the legs' first ring
-// follows 1 − (1 − u)^kSeatRoundUnder (u = 1 at the hip ring): full, then rounding under.
+// hip section's middle, and the back from the hip ring down to the torso's bottom ring (and the
+// cheeks' bumps down to the gluteal furrow's ring) follow 1 − (1 − u)^kSeatRoundUnder, u = 1 at
+// the hip ring: full, then rounding under.
 constexpr double kThighForward = 0.08;
 constexpr double kSeatRoundUnder = 3.0;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
@@ -1330,20 +1331,22 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
         const double bump = std::exp(-std::pow((kPi - t_thigh - (kPi - 0.62)) / 0.42, 2));
         b.glute = std::max(0.0, gap / bump);
       }
-      // Rings between the bottom and the hip ring: the sides follow the hip outline; depths and
-      // bumps blend with zero slope at both ends (thighs below, the hip above), so the profile has
-      // no kink at either ring.
+      // Rings between the bottom and the hip ring: the sides follow the hip outline. The front
+      // blends with zero slope at both ends (thighs below, the hip above), so its profile has no
+      // kink at either ring. The back leaves the bottom ring steeply and stays full well below
+      // the hip ring, and the cheeks' bumps rise only from the gluteal furrow's ring up: the
+      // buttocks round under into the fold over the thighs (a smooth step behind too drew an
+      // S-slope with no fold).
+      const int kl = torso_key_ring(kLow);  // its back is the gluteal furrow
       for (int k = 1; k < kh; ++k) {
         TorsoRing& r = P.torso[static_cast<size_t>(k)];
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
-        // The buttocks stay full well down from the hip ring and round under into the fold over
-        // the thighs: behind, the blend leaves the bottom ring steeply (with the smooth step the
-        // back ran from the hip ring to the thighs in one straight slope, and the buttocks did
-        // not stand out from the side).
         const double e_back = 1 - std::pow(1 - u, kSeatRoundUnder);
+        const double u_cheek = std::clamp(static_cast<double>(k - kl) / (kh - kl), 0.0, 1.0);
+        const double e_cheek = 1 - std::pow(1 - u_cheek, kSeatRoundUnder);
         r.a = P.hip_outline(r.y + P.torso_tilt_side[static_cast<size_t>(k)]); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e_back);
-        r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e_back);
-        r.cleft = std::lerp(b.cleft, h.cleft, e_back);
+        r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e_cheek);
+        r.cleft = std::lerp(b.cleft, h.cleft, e);
         r.bust = std::lerp(b.bust, 0.0, e); r.bust_t = b.bust_t; r.bust_w = b.bust_w; r.bust_w_out = b.bust_w_out;
       }
       P.crotch_z = std::clamp(t.zc, b.cz - 0.5 * b.db, b.cz + 0.5 * b.df);
