@@ -8,19 +8,23 @@
 import { mkdirSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { screenshots, loadChromium, prepare, startServer, launchBrowser } from '../tests/e2e/harness.mjs';
+import { screenshots, loadChromium, prepare, startServer, launchBrowser, settle } from '../tests/e2e/harness.mjs';
 
+if (!screenshots) {
+  console.error('usage: node scripts/screenshot-makehuman.mjs [--caliper BIN] --screenshots OUT_DIR');
+  process.exit(2);
+}
 const chromium = loadChromium();
 const modelsDir = prepare();
 const dataDir = mkdtempSync(join(tmpdir(), 'caliper-makehuman-shot-'));
-const { child: server, base } = await startServer(modelsDir, dataDir);
-const browser = await launchBrowser(chromium);
-let status = 1;
+let server = null, browser = null, status = 1;
 try {
+  const started = await startServer(modelsDir, dataDir);
+  server = started.child;
+  browser = await launchBrowser(chromium);
   const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
-  await page.goto(`${base}/`);
-  const updates = () => page.evaluate(() => window.caliper?.updates ?? 0);
-  await page.waitForFunction(() => (window.caliper?.updates ?? 0) >= 1, null, { timeout: 60000 });
+  await page.goto(`${started.base}/`);
+  await settle(page, 1);
   await page.selectOption('#model', 'makehuman');
   await page.selectOption('#regressor', 'R5');
   // The mean woman's height, weight, arm span, inseam and hip width, as the picture always had.
@@ -28,20 +32,15 @@ try {
     ['crotch_height', '78.2'], ['hip_breadth', '35.4']]) await page.fill(`#in-${name}`, value);
   await page.waitForFunction(() => /R5 · 5 inputs/.test(document.getElementById('regressor-used')?.textContent ?? ''),
     null, { timeout: 60000 });
-  for (let last = -1, i = 0; i < 50; ++i) {  // until no update is pending
-    const u = await updates();
-    if (u === last) break;
-    last = u;
-    await page.waitForTimeout(500);
-  }
+  await settle(page, 1, 500);
   mkdirSync(screenshots, { recursive: true });
   await page.screenshot({ path: join(screenshots, 'makehuman-desktop-tool.png') });
   status = 0;
 } catch (e) {
   console.log(`FAIL ${e.stack ?? e}`);
 } finally {
-  await browser.close();
-  server.kill();
+  if (browser) await browser.close();
+  if (server) server.kill();
   rmSync(dataDir, { recursive: true, force: true });
 }
 process.exit(status);

@@ -8,11 +8,13 @@
 # - desktop tool, capture page, mirror, .vrm in three-vrm: the browser tests' own screenshots
 #   (tests/e2e/*.spec.mjs --screenshots, headless Chromium), renamed by the table below;
 # - makehuman-desktop-tool.png: scripts/screenshot-makehuman.mjs with build/makehuman-female.npz
-#   (built from ../shared/data/makehuman when missing; skipped when that folder is missing);
+#   (built from ../shared/data/makehuman when missing or older than the CLI; skipped when that
+#   folder is missing);
 # - engines-blender-*.png: tests/e2e/blender_render.py in Blender (EEVEE) on exported .fbx files
-#   (skipped when `blender` is missing).
+#   (skipped when `blender` is missing), the shape keys' three composed by
+#   tests/e2e/blender_side_by_side.py.
 # Needs build/bin/caliper (scripts/build.sh) and web/node_modules; builds web/dist itself.
-# About 7½ minutes on 2 cores (the mirror test 2½, the desktop and capture tests 1½ each).
+# About 5–8 minutes on 2 cores, depending on the load (the mirror test takes the longest).
 # A test that fails leaves its pictures untouched and the script exits 1 at the end.
 set -euo pipefail
 if [ "${1:-}" = "-h" ] || [ "${1:-}" = "--help" ]; then sed -n '2,/^set -e/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0; fi
@@ -66,49 +68,40 @@ for spec in desktop capture mirror vrm; do
   fi
 done
 
-# The desktop tool with a MakeHuman model picked: the built model beside the mannequin ones.
+# The desktop tool with a MakeHuman model picked: the built model beside the mannequin ones
+# (rebuilt when older than the CLI, so a changed MakeHuman builder shows).
 mh_assets=../shared/data/makehuman mh=build/makehuman-female.npz
 if [ -d "$mh_assets" ]; then
   say "makehuman-desktop-tool.png ..."
-  [ -f "$mh" ] || "$caliper" model build makehuman --assets "$mh_assets" --sex female -o "$mh" >/dev/null
   mkdir -p "$tmp/models"
   ln -s "$root"/models/mannequin-*.npz "$root/$mh" "$tmp/models/"
-  if CALIPER_MODELS_DIR="$tmp/models" node scripts/screenshot-makehuman.mjs --caliper "$caliper" --screenshots "$out" \
-    >"$tmp/makehuman.log" 2>&1; then say "  makehuman-desktop-tool.png"
-  else cat "$tmp/makehuman.log" >&2; say "  FAILED: makehuman-desktop-tool.png" >&2; failed=1; fi
+  if { [ "$mh" -nt "$caliper" ] || "$caliper" model build makehuman --assets "$mh_assets" --sex female -o "$mh" >"$tmp/makehuman.log" 2>&1; } &&
+    CALIPER_MODELS_DIR="$tmp/models" node scripts/screenshot-makehuman.mjs --caliper "$caliper" --screenshots "$out" \
+      >>"$tmp/makehuman.log" 2>&1; then say "  makehuman-desktop-tool.png"
+  else tail -20 "$tmp/makehuman.log" >&2; say "  FAILED: makehuman-desktop-tool.png" >&2; failed=1; fi
 else
   say "$mh_assets not found: makehuman-desktop-tool.png is left as it is (docs/makehuman.md)"
 fi
 
-# Blender: the exported .fbx posed by tests/e2e/blender_render.py (avatars as scripts/test.sh's
-# CALIPER_BLENDER check exports them; docs/engines.md).
+# Blender: the engine checks' avatars (tests/e2e/export-engine-avatars.sh) posed by
+# tests/e2e/blender_render.py; the shape keys' three pictures put side by side.
 render() {  # FILE OUT.png [shape_k=VALUE]
   blender -b --python-exit-code 1 --python tests/e2e/blender_render.py -- "$1" "$2" BLENDER_EEVEE "${@:3}" >"$tmp/blender.log" 2>&1 ||
     { tail -20 "$tmp/blender.log" >&2; return 1; }
 }
-# Three 480×640 renders side by side, each cropped to the 400×540 around the body.
-compose='import bpy, sys, numpy as np
-out, *ins = sys.argv[sys.argv.index("--") + 1:]
-def crop(path):
-    im = bpy.data.images.load(path); w, h = im.size
-    a = np.empty(w * h * 4, np.float32); im.pixels.foreach_get(a)
-    return a.reshape(h, w, 4)[h - 570:h - 30, 40:440]  # rows 30-570 from the top (stored bottom up)
-a = np.concatenate([crop(p) for p in ins], axis=1)
-im = bpy.data.images.new("shape_keys", a.shape[1], a.shape[0])
-im.pixels.foreach_set(a.ravel()); im.filepath_raw = out; im.file_format = "PNG"; im.save()'
+blender_shots() {
+  bash tests/e2e/export-engine-avatars.sh "$caliper" "$tmp/avatars" >/dev/null &&
+    render "$tmp/avatars/male.fbx" "$out/engines-blender-fbx.png" && say "  engines-blender-fbx.png" &&
+    render "$tmp/avatars/female-morphs.fbx" "$tmp/keys-2.png" shape_0=-2 &&
+    render "$tmp/avatars/female-morphs.fbx" "$tmp/keys0.png" shape_0=0 &&
+    render "$tmp/avatars/female-morphs.fbx" "$tmp/keys2.png" shape_0=2 &&
+    blender -b --python-exit-code 1 --python tests/e2e/blender_side_by_side.py -- \
+      "$out/engines-blender-shape-keys.png" "$tmp"/keys{-2,0,2}.png >"$tmp/blender.log" 2>&1 &&
+    say "  engines-blender-shape-keys.png"
+}
 if command -v blender >/dev/null; then
-  say "engines-blender-fbx.png ..."
-  "$caliper" avatar --sex male --height 180 --weight 85 --skeleton humanoid -o "$tmp/male.fbx" -q >/dev/null
-  if render "$tmp/male.fbx" "$out/engines-blender-fbx.png"; then say "  engines-blender-fbx.png"
-  else say "  FAILED: engines-blender-fbx.png" >&2; failed=1; fi
-  say "engines-blender-shape-keys.png ..."
-  "$caliper" avatar --sex female --height 165 --weight 62 --morphs -o "$tmp/female-morphs.fbx" -q >/dev/null
-  ok=1
-  for v in -2 0 2; do render "$tmp/female-morphs.fbx" "$tmp/keys$v.png" "shape_0=$v" || ok=0; done
-  if [ "$ok" = 1 ] && blender -b --python-exit-code 1 --python-expr "$compose" -- \
-    "$out/engines-blender-shape-keys.png" "$tmp"/keys{-2,0,2}.png >"$tmp/blender.log" 2>&1
-  then say "  engines-blender-shape-keys.png"
-  else tail -20 "$tmp/blender.log" >&2; say "  FAILED: engines-blender-shape-keys.png" >&2; failed=1; fi
+  say "engines-blender-fbx.png, engines-blender-shape-keys.png ..."
+  blender_shots || { tail -20 "$tmp/blender.log" >&2 2>/dev/null; say "  FAILED: the Blender pictures" >&2; failed=1; }
 else
   say "no blender on PATH: engines-blender-fbx.png and engines-blender-shape-keys.png are left as they are"
 fi

@@ -35,12 +35,7 @@ if [ "${CALIPER_BLENDER:-0}" = "1" ]; then
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends blender python3-numpy
   fi
   tmp="$(mktemp -d)"
-  build/bin/caliper avatar --sex female --height 165 --weight 62 -o "$tmp/female.glb" -q
-  build/bin/caliper avatar --sex male --height 180 --weight 85 --arm-span 186 --inseam 84 -o "$tmp/male.glb" -q
-  build/bin/caliper avatar --sex female --height 165 --weight 62 -o "$tmp/female.fbx" -q
-  build/bin/caliper avatar --sex male --height 180 --weight 85 --skeleton humanoid -o "$tmp/male.fbx" -q
-  build/bin/caliper avatar --sex female --height 165 --weight 62 --morphs -o "$tmp/female-morphs.fbx" -q
-  build/bin/caliper avatar --sex female --height 170 --weight 70 --skeleton humanoid --morphs -o "$tmp/female-morphs.glb" -q
+  bash tests/e2e/export-engine-avatars.sh build/bin/caliper "$tmp" >/dev/null
   shapes="$(build/bin/caliper model info mannequin --sex female --json 2>/dev/null | node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).shape_directions))')"
   bash tests/e2e/check-glb.sh "$tmp/female.glb" "$tmp/male.glb" "$tmp/female.fbx" "$tmp/male.fbx" \
     --shape-keys="$shapes" "$tmp/female-morphs.fbx" "$tmp/female-morphs.glb"

@@ -15,6 +15,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import {
   root, caliper, screenshots, hasFlag, loadChromium, prepare, check, fail, finish, startServer, launchBrowser,
+  settle as settleUpdates,
 } from './harness.mjs';
 
 const chromium = loadChromium();
@@ -46,16 +47,7 @@ try {
 
   const updates = () => page.evaluate(() => window.caliper?.updates ?? 0);
   // Waits until the page has finished at least `n` updates and nothing is pending.
-  async function settle(n) {
-    await page.waitForFunction((k) => (window.caliper?.updates ?? 0) >= k, n, { timeout: 60000 });
-    let last = -1;
-    for (let i = 0; i < 50; ++i) {
-      const u = await updates();
-      if (u === last) break;
-      last = u;
-      await page.waitForTimeout(300);
-    }
-  }
+  const settle = (n) => settleUpdates(page, n);
   // The canvas as pixels, kept in the page; the second call returns how many pixels changed.
   const snapshot = () => page.evaluate(() => {
     const src = window.caliper.viewer.canvas;

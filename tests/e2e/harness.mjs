@@ -78,6 +78,19 @@ export function finish() {
   process.exit(failures ? 1 : 0);
 }
 
+// The desktop tool's page: waits until it has finished at least `n` updates (window.caliper.updates)
+// and no further one follows within `pauseMs`.
+export async function settle(page, n, pauseMs = 300) {
+  await page.waitForFunction((k) => (window.caliper?.updates ?? 0) >= k, n, { timeout: 60000 });
+  let last = -1;
+  for (let i = 0; i < 50; ++i) {
+    const u = await page.evaluate(() => window.caliper?.updates ?? 0);
+    if (u === last) break;
+    last = u;
+    await page.waitForTimeout(pauseMs);
+  }
+}
+
 // `caliper serve` on a free port; capture sessions go to `dataDir`, never the user's own folder.
 // The server on `port` (0: any free one); resolves to {child, base} once it listens.
 export function startServer(modelsDir, dataDir, port = 0) {
