@@ -23,6 +23,8 @@ out="$(realpath -m "${1:-$root/docs/images}")"
 cd "$root"
 caliper=build/bin/caliper
 [ -x "$caliper" ] || { echo "screenshots: no $caliper (run scripts/build.sh)" >&2; exit 1; }
+chromium="${CALIPER_CHROMIUM:-/usr/bin/chromium}"  # as tests/e2e/harness.mjs finds it
+[ -x "$chromium" ] || { echo "screenshots: no Chromium at $chromium (scripts/install-deps.sh installs it)" >&2; exit 1; }
 export CALIPER_REQUIRE_TOOLS=1   # a missing browser or npm package fails instead of skipping
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
