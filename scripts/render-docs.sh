@@ -37,7 +37,9 @@ mh_assets=../shared/data/makehuman
 if [ -d "$mh_assets" ]; then
   for sex in female male; do
     mh=build/makehuman-$sex.npz
-    [ -f "$mh" ] || $c model build makehuman --assets "$mh_assets" --sex "$sex" -o "$mh" >/dev/null
+    # Rebuilt when older than the CLI: a model built by an older MakeHuman importer would show
+    # its body, not today's.
+    [ "$mh" -nt "$c" ] || $c model build makehuman --assets "$mh_assets" --sex "$sex" -o "$mh" >/dev/null
     if [ "$sex" = female ]; then m=(--height 165 --weight 62); else m=(--height 178 --weight 82); fi
     $c render --model "$mh" --sex "$sex" "${m[@]}" -o "docs/images/makehuman-$sex.png" --views front,side --pose a \
       --image-width 420 --image-height 700
