@@ -106,6 +106,15 @@ constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 
 // lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
 constexpr double kJawLift = 0.15;
+// The chin ring's front, a share of the head's half-length in front of the head's centre.
+constexpr double kChinFront = 0.84;
+// The neck ring (it carries the neck's girth) lies this far under the chin (m on a 1.70 m body),
+// unless C7 is lower still; and the cervicale ring's front between the neck's and the chin's (see
+// plan_body()): the floor of the mouth slopes down over 2.5–3 cm, as in a real profile. (At 3 cm
+// the throat's bend fell on the torso's side of the neck ring: the women's largest torso
+// 99th-percentile crease was 50.0°, against 42.8° now and 47.4° before; docs/mannequin.md.)
+constexpr double kNeckBelowChin = 0.026;
+constexpr double kJawFloorFront = 0.5;
 // The legs' outward lean in the rest pose (splay_legs()): the feet stand about hip-width apart.
 constexpr double kLegSplay = 4.0 * kPi / 180;
 constexpr double kLegSplayRamp = 0.10;  // m below the crotch (per 1.70 m) over which the lean sets in
@@ -869,7 +878,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   const double y_acr = std::max(d.acr, y_ax + 0.05);
   const double y_chin = d.S - 0.232 * hs;
   const double y_cv = std::max(d.cerv, y_acr + 0.015);
-  const double y_nk = std::clamp(std::min(y_cv - 0.006, y_chin - 0.022), y_acr + 0.02, y_cv - 0.004);
+  const double y_nk = std::clamp(std::min(y_cv - 0.006, y_chin - kNeckBelowChin * sc), y_acr + 0.02, y_cv - 0.004);
   const double y_chin_c = std::max(y_chin, y_cv + 0.006);
   const double y_g = d.S - 0.52 * d.headl;
   const double y_nose = y_chin_c + 0.62 * (y_g - y_chin_c) ;
@@ -1020,12 +1029,23 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // millimetres in front of the neck ring's back: the back of the neck keeps leaning forward
     // through C7 into the nape instead of rising upright from a step.
     r.a *= 0.95; r.db *= 0.95; r.df *= 0.99;
+    // The floor of the mouth slopes from the chin down and back to the throat: C7 lies below the
+    // chin, so the cervicale ring's front is already on that slope, kJawFloorFront of the way
+    // from the neck's front to the chin's in the share of the height (neck ring to chin ring) it
+    // lies at. Its back (C7) and sides stay (moving its centre forward sheared the neck's sides
+    // until their faces crossed). With its front at the neck's (before 2026-11-28) the floor
+    // was a level shelf under a sharp chin, 6 cm deep over less than 1.5 cm of height.
+    {
+      const double neck_front = r.cz + r.df, chin_front = head_cz + kChinFront * hl2;
+      const double u = (y_cv - y_nk) / std::max(1e-6, y_chin_c - y_nk);
+      r.df += kJawFloorFront * u * std::max(0.0, chin_front - neck_front);
+    }
     K[kCervicale] = r;
     r.y = y_chin_c;
     r.cz = head_cz;
     // The chin ring reaches from the chin back to the neck's back (its back is then redrawn by
     // the nape's profile, below); it is no narrower than the neck under it.
-    r.a = std::max(0.78 * hb2, K[kCervicale].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = 0.84 * hl2; r.p = 2.2;
+    r.a = std::max(0.78 * hb2, K[kCervicale].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = kChinFront * hl2; r.p = 2.2;
     r.chin = 0.006 * hs;
     // The jaw narrows toward the chin: a U from the front, not a box. By a half near the midline
     // it came to a point; a man's chin is broader and squarer than a woman's.
