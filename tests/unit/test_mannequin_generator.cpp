@@ -680,7 +680,7 @@ TEST(MannequinGenerator, ShouldersBendWithoutFolding) {
 // least 8 % of the way from the neck's front to the chin's (the chin: the front-most point within
 // 4.5 cm per 1.70 m above the neck's girth). With the front at C7's height at the neck's own
 // (before 2026-11-28) the floor was a level shelf under a sharp-edged chin: 2 % on all five
-// bodies (18–20 % now).
+// bodies (21–24 % now).
 TEST(MannequinGenerator, FloorOfTheMouthSlopes) {
   for (const auto& [d, sex] : sample_bodies()) {
     const Vertices v = mq::generate(d, sex);
