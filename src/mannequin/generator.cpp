@@ -135,6 +135,8 @@ constexpr double kFaceDensity = 3.5;  // extra column density across the face (r
 constexpr double kEarDensity = 2.0;   // and across the ears
 // The ear, in head centimetres from the glabella (Y up, scaled by the face's height; Z forward
 // of the head's centre): its centre and half-height and half-width.
+constexpr double kAlaX = 1.4;        // the nose's wings' middles from the midline (sculpt())
+constexpr double kMouthDroop = 0.35, kMouthLevel = 1.0;  // the mouth's line falls toward its corners (sculpt())
 constexpr double kEarY = -4.3, kEarZ = -1.1, kEarRY = 2.8, kEarRZ = 1.7;
 
 // Leg stations (below the theta ring r0) and intervals.
@@ -2677,10 +2679,13 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           // a corner, a spike in profile (2.3 high with a 0.55 tip, until 2026-11-28).
           f += 0.85 * blob(X, Y + 5.5, 1.5, 1.5);
           {  // the nostrils' wings, easing down into the upper lip (a sharp lower edge shaded a moustache)
+            // Their middles 1.4 cm from the midline, so the nose's base is about 3.7 cm wide, as a
+            // real one is: at 1.7 cm with radius 1 (until 2026-11-28) it was 4.4 cm, a ball on each
+            // side of a thin nose.
             const double dy = Y + 5.9;
-            f += 0.75 * blob(X - 1.7, dy, 1.0, dy < 0 ? 1.6 : 0.9);
+            f += 0.75 * blob(X - kAlaX, dy, 0.9, dy < 0 ? 1.6 : 0.9);
             // the alar groove round each wing's top and back, which sets it off the cheek
-            f -= 0.15 * (blob(X - 1.7, Y + 5.6, 1.6, 1.3) - blob(X - 1.7, Y + 5.6, 1.15, 0.9));
+            f -= 0.15 * (blob(X - kAlaX, Y + 5.6, 1.6, 1.3) - blob(X - kAlaX, Y + 5.6, 1.15, 0.9));
           }
         }
         // No hollow under the cheekbone: the head rings' own curve carries the face round to the
@@ -2703,11 +2708,16 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           return blob(X, dy, rx, (dy > 0 ? ry_up : ry_down) * std::sqrt(std::max(0.2, 1 - sq(X / rx))));
         };
         // The mouth about 5 cm wide (at radii 2.1 and 1.9 it was a child's pout under a grin).
-        f += 0.38 * lip(Y + 8.2, 2.6, 1.4, 0.35);        // upper lip
-        f += 0.40 * lip(Y + 8.85, 2.3, 0.4, 0.95);       // lower lip
-        f -= 0.18 * lip(Y + 8.5, 2.7, 0.25, 0.25);       // mouth line, about as wide as the lips
+        // The lips' line bends down toward the corners, 8 mm at 2.5 head-cm out (kMouthDroop):
+        // drawn level on a face that curves back, it read as a grin from in front (until
+        // 2026-11-28). Its middle 2 head-cm stay level: bent there too, the mouth line crossed
+        // the rings at the midline and pinched to 111–125° between neighbouring faces (88° level).
+        const double Ym = Y + kMouthDroop * sq(std::max(0.0, X - kMouthLevel));
+        f += 0.38 * lip(Ym + 8.2, 2.6, 1.4, 0.35);       // upper lip
+        f += 0.40 * lip(Ym + 8.85, 2.3, 0.4, 0.95);      // lower lip
+        f -= 0.18 * lip(Ym + 8.5, 2.7, 0.25, 0.25);      // mouth line, about as wide as the lips
         f -= 0.10 * blob(X, Y + 7.0, 0.45, 0.9);         // the philtrum's groove
-        f -= 0.08 * blob(X - 2.7, Y + 8.5, 0.8, 0.8);    // mouth corners
+        f -= 0.08 * blob(X - 2.7, Ym + 8.5, 0.8, 0.8);   // mouth corners
         f -= 0.22 * blob(X, Y + 10.3, 1.7, 0.7);         // labiomental fold (2.2 wide, it drew a grin's line)
         f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
         // No jaw line of its own: the lifted chin ring is the mandible's lower border, faired
