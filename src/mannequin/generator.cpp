@@ -106,13 +106,14 @@ constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 
 // lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
 constexpr double kJawLift = 0.15;
-// The chin ring's front, a share of the head's half-length in front of the head's centre.
-constexpr double kChinFront = 0.84;
+// The chin ring's front: a share of the head's half-length in front of the head's centre, and the
+// chin's bump on it (m per unit of the head's scale).
+constexpr double kChinFront = 0.84, kChinBump = 0.006;
 // The neck ring (it carries the neck's girth) lies this far under the chin (m on a 1.70 m body),
-// unless C7 is lower still; and the cervicale ring's front between the neck's and the chin's (see
-// plan_body()): the floor of the mouth slopes down over 2.5–3 cm, as in a real profile. (At 3 cm
-// the throat's bend fell on the torso's side of the neck ring: the women's largest torso
-// 99th-percentile crease was 50.0°, against 42.8° now and 47.4° before; docs/mannequin.md.)
+// unless 6 mm under C7 is lower; and the cervicale ring's front leans toward the chin's (see
+// plan_body()), so the neck's front leans forward up to the floor of the mouth. (At 3 cm the
+// throat's bend fell on the torso's side of the neck ring: the women's largest torso
+// 99th-percentile crease was 50.0°, against 42.8° at 2.6 cm and 47.4° before; docs/mannequin.md.)
 constexpr double kNeckBelowChin = 0.026;
 constexpr double kJawFloorFront = 0.5;
 // The legs' outward lean in the rest pose (splay_legs()): the feet stand about hip-width apart.
@@ -133,10 +134,13 @@ constexpr double kSeatRoundUnder = 3.0;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
 constexpr double kEarDensity = 2.0;   // and across the ears
+// In head centimetres (sculpt()): the nose's wings' middles from the midline and their radius
+// across; how the mouth's line falls toward its corners, kMouthDroop·(X − kMouthLevelHalf)² beyond
+// the middle stretch kMouthLevelHalf either side of the midline, which stays level.
+constexpr double kAlaX = 1.4, kAlaRadius = 0.9;
+constexpr double kMouthDroop = 0.35, kMouthLevelHalf = 1.0;
 // The ear, in head centimetres from the glabella (Y up, scaled by the face's height; Z forward
 // of the head's centre): its centre and half-height and half-width.
-constexpr double kAlaX = 1.4;        // the nose's wings' middles from the midline (sculpt())
-constexpr double kMouthDroop = 0.35, kMouthLevel = 1.0;  // the mouth's line falls toward its corners (sculpt())
 constexpr double kEarY = -4.3, kEarZ = -1.1, kEarRY = 2.8, kEarRZ = 1.7;
 
 // Leg stations (below the theta ring r0) and intervals.
@@ -880,7 +884,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   const double y_acr = std::max(d.acr, y_ax + 0.05);
   const double y_chin = d.S - 0.232 * hs;
   const double y_cv = std::max(d.cerv, y_acr + 0.015);
-  const double y_nk = std::clamp(std::min(y_cv - 0.006, y_chin - kNeckBelowChin * sc), y_acr + 0.02, y_cv - 0.004);
+  // Under C7 first, then over the acromion where there is room for both (on one woman of the
+  // development subset C7 is only 1.6 cm over the acromion; std::clamp's bounds crossed there and
+  // put the neck ring above the cervicale ring until 2026-11-28).
+  const double y_nk = std::min(std::max(std::min(y_cv - 0.006, y_chin - kNeckBelowChin * sc), y_acr + 0.02), y_cv - 0.004);
   const double y_chin_c = std::max(y_chin, y_cv + 0.006);
   const double y_g = d.S - 0.52 * d.headl;
   const double y_nose = y_chin_c + 0.62 * (y_g - y_chin_c) ;
@@ -1031,16 +1038,17 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // millimetres in front of the neck ring's back: the back of the neck keeps leaning forward
     // through C7 into the nape instead of rising upright from a step.
     r.a *= 0.95; r.db *= 0.95; r.df *= 0.99;
-    // The floor of the mouth slopes from the chin down and back to the throat: C7 lies below the
-    // chin, so the cervicale ring's front is already on that slope, kJawFloorFront of the way
-    // from the neck's front to the chin's in the share of the height (neck ring to chin ring) it
-    // lies at. Its back (C7) and sides stay (moving its centre forward sheared the neck's sides
-    // until their faces crossed). With its front at the neck's (before 2026-11-28) the floor
-    // was a level shelf under a sharp chin, 6 cm deep over less than 1.5 cm of height.
+    // The neck's front leans forward up to the floor of the mouth: the cervicale ring (C7 lies
+    // at most 6 mm under the chin ring, often more) takes its front kJawFloorFront of the way
+    // from its own to the chin's, times the share of the height (neck ring to chin ring) it lies
+    // at. Its back (C7) and sides stay (moving its centre forward sheared the neck's sides until
+    // their faces crossed). With its front at the neck's (before 2026-11-28) the neck's front
+    // stood upright to a level shelf under the chin, 6–7 cm deep; a larger share, for a straight
+    // slope to the chin, folded the throat at the neck ring (docs/mannequin.md).
     {
-      const double neck_front = r.cz + r.df, chin_front = head_cz + kChinFront * hl2;
-      const double u = (y_cv - y_nk) / std::max(1e-6, y_chin_c - y_nk);
-      r.df += kJawFloorFront * u * std::max(0.0, chin_front - neck_front);
+      const double front0 = r.cz + r.df, chin_front = head_cz + kChinFront * hl2 + kChinBump * hs;
+      const double u = std::clamp((y_cv - y_nk) / std::max(1e-6, y_chin_c - y_nk), 0.0, 1.0);
+      r.df += kJawFloorFront * u * std::max(0.0, chin_front - front0);
     }
     K[kCervicale] = r;
     r.y = y_chin_c;
@@ -1048,7 +1056,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // The chin ring reaches from the chin back to the neck's back (its back is then redrawn by
     // the nape's profile, below); it is no narrower than the neck under it.
     r.a = std::max(0.78 * hb2, K[kCervicale].a); r.db = K[kNeck].db + (head_cz - K[kNeck].cz) + 0.002 * hs; r.df = kChinFront * hl2; r.p = 2.2;
-    r.chin = 0.006 * hs;
+    r.chin = kChinBump * hs;
     // The jaw narrows toward the chin: a U from the front, not a box. By a half near the midline
     // it came to a point; a man's chin is broader and squarer than a woman's.
     r.front_taper = std::lerp(0.30, 0.38, fem);
@@ -2266,7 +2274,7 @@ Fairing make_fairing() {
   // the mouth along the cervicale ring at about 85° on the typical bodies, and the floor met the
   // face along the chin ring: a mask's rim from the chin back to the jaw's angle in every
   // three-quarter and side view. Six rings (were three) between the two and the fairing of the
-  // front of the head from the cervicale ring (level: the neck ring's girth lies just under it)
+  // front of the head from the cervicale ring (level: the neck ring, which carries the girth, lies under it)
   // to two rings above the chin's round both edges off. No measure lies there (the head's are on
   // the glabella ring); the relief (sculpt()) draws the chin and lips afterwards. Points on the
   // midline stay on it.
@@ -2679,11 +2687,11 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
           // a corner, a spike in profile (2.3 high with a 0.55 tip, until 2026-11-28).
           f += 0.85 * blob(X, Y + 5.5, 1.5, 1.5);
           {  // the nostrils' wings, easing down into the upper lip (a sharp lower edge shaded a moustache)
-            // Their middles 1.4 cm from the midline, so the nose's base is about 3.7 cm wide, as a
-            // real one is: at 1.7 cm with radius 1 (until 2026-11-28) it was 4.4 cm, a ball on each
+            // Their middles 1.4 head-cm from the midline, so the nose's base is about 3.7 cm wide, as
+            // a real one is: at 1.7 with radius 1 (until 2026-11-28) it was 4.4 cm, a ball on each
             // side of a thin nose.
             const double dy = Y + 5.9;
-            f += 0.75 * blob(X - kAlaX, dy, 0.9, dy < 0 ? 1.6 : 0.9);
+            f += 0.75 * blob(X - kAlaX, dy, kAlaRadius, dy < 0 ? 1.6 : 0.9);
             // the alar groove round each wing's top and back, which sets it off the cheek
             f -= 0.15 * (blob(X - kAlaX, Y + 5.6, 1.6, 1.3) - blob(X - kAlaX, Y + 5.6, 1.15, 0.9));
           }
@@ -2711,13 +2719,14 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // The lips' line bends down toward the corners, 8 mm at 2.5 head-cm out (kMouthDroop):
         // drawn level on a face that curves back, it read as a grin from in front (until
         // 2026-11-28). Its middle 2 head-cm stay level: bent there too, the mouth line crossed
-        // the rings at the midline and pinched to 111–125° between neighbouring faces (88° level).
-        const double Ym = Y + kMouthDroop * sq(std::max(0.0, X - kMouthLevel));
+        // the rings at the midline and pinched (the head's largest angle 108° → 129° over the
+        // development subset; 111° on one mean body, 88° level).
+        const double Ym = Y + kMouthDroop * sq(std::max(0.0, X - kMouthLevelHalf));
         f += 0.38 * lip(Ym + 8.2, 2.6, 1.4, 0.35);       // upper lip
         f += 0.40 * lip(Ym + 8.85, 2.3, 0.4, 0.95);      // lower lip
         f -= 0.18 * lip(Ym + 8.5, 2.7, 0.25, 0.25);      // mouth line, about as wide as the lips
         f -= 0.10 * blob(X, Y + 7.0, 0.45, 0.9);         // the philtrum's groove
-        f -= 0.08 * blob(X - 2.7, Ym + 8.5, 0.8, 0.8);   // mouth corners
+        f -= 0.08 * blob(X - 2.7, Y + kMouthDroop * sq(2.7 - kMouthLevelHalf) + 8.5, 0.8, 0.8);  // mouth corners, lowered whole
         f -= 0.22 * blob(X, Y + 10.3, 1.7, 0.7);         // labiomental fold (2.2 wide, it drew a grin's line)
         f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
         // No jaw line of its own: the lifted chin ring is the mandible's lower border, faired
