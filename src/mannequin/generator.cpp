@@ -1371,9 +1371,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       for (int k = 1; k < kh; ++k) {
         TorsoRing& r = P.torso[static_cast<size_t>(k)];
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
-        const double e_back = 1 - std::pow(1 - u, kSeatRoundUnder);
-        const double u_cheek = std::clamp(static_cast<double>(k - kl) / (kh - kl), 0.0, 1.0);
-        const double e_cheek = 1 - std::pow(1 - u_cheek, kSeatRoundUnder);
+        auto round_under = [](double t) { return 1 - std::pow(1 - t, kSeatRoundUnder); };
+        const double e_back = round_under(u);
+        const double e_cheek = round_under(std::clamp(static_cast<double>(k - kl) / (kh - kl), 0.0, 1.0));
         r.a = P.hip_outline(r.y + P.torso_tilt_side[static_cast<size_t>(k)]); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e_back);
         r.cz = std::lerp(b.cz, h.cz, e); r.p = std::lerp(b.p, h.p, e); r.glute = std::lerp(b.glute, h.glute, e_cheek);
         r.cleft = std::lerp(b.cleft, h.cleft, e);
@@ -2721,12 +2721,13 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
         // 2026-11-28). Its middle 2 head-cm stay level: bent there too, the mouth line crossed
         // the rings at the midline and pinched (the head's largest angle 108° → 129° over the
         // development subset; 111° on one mean body, 88° level).
-        const double Ym = Y + kMouthDroop * sq(std::max(0.0, X - kMouthLevelHalf));
+        auto droop = [](double x) { return kMouthDroop * sq(std::max(0.0, x - kMouthLevelHalf)); };
+        const double Ym = Y + droop(X);
         f += 0.38 * lip(Ym + 8.2, 2.6, 1.4, 0.35);       // upper lip
         f += 0.40 * lip(Ym + 8.85, 2.3, 0.4, 0.95);      // lower lip
         f -= 0.18 * lip(Ym + 8.5, 2.7, 0.25, 0.25);      // mouth line, about as wide as the lips
         f -= 0.10 * blob(X, Y + 7.0, 0.45, 0.9);         // the philtrum's groove
-        f -= 0.08 * blob(X - 2.7, Y + kMouthDroop * sq(2.7 - kMouthLevelHalf) + 8.5, 0.8, 0.8);  // mouth corners, lowered whole
+        f -= 0.08 * blob(X - 2.7, Y + droop(2.7) + 8.5, 0.8, 0.8);  // mouth corners, lowered whole
         f -= 0.22 * blob(X, Y + 10.3, 1.7, 0.7);         // labiomental fold (2.2 wide, it drew a grin's line)
         f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
         // No jaw line of its own: the lifted chin ring is the mandible's lower border, faired
