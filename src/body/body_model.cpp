@@ -218,6 +218,12 @@ Vertices BodyModel::rest_vertices(const Eigen::VectorXd& beta) const {
   return v;
 }
 
+Eigen::RowVectorXd BodyModel::shape_gradient(const Eigen::VectorXd& vertex_gradient) const {
+  if (vertex_gradient.size() != shape_directions_f_.rows())
+    throw Error(ErrorKind::InvalidArgument, "vertex gradient size does not match the model", "vertex_gradient");
+  return (vertex_gradient.cast<float>().transpose() * shape_directions_f_).cast<double>();
+}
+
 Eigen::MatrixX3d BodyModel::joints(const Vertices& rest) const {
   if (rest.rows() != data_.template_vertices.rows())
     throw Error(ErrorKind::InvalidArgument, "vertex count does not match the model", "vertices");

@@ -98,7 +98,7 @@ Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const Vertices& res
     const MeasurementDefinition& def = *model.find_measurement(which[static_cast<size_t>(i)]);
     const MeasurementGradient g = measure_with_gradient(model, def, rest, model.faces());
     base(i) = g.value;
-    if (g.dense.size()) jac.row(i).noalias() = g.dense.transpose() * directions;
+    if (g.dense.size()) jac.row(i) = model.shape_gradient(g.dense);  // the weight: every vertex
     for (const GradientTerm& term : g.terms)
       jac.row(i).noalias() += term.d.transpose() * directions.middleRows(3 * static_cast<Eigen::Index>(term.vertex), 3);
   }

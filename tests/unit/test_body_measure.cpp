@@ -18,6 +18,22 @@ TEST(BodyModel, RestVerticesAreTemplatePlusDirections) {
   EXPECT_NEAR(m.rest_vertices(Eigen::VectorXd())(top, 1), 1.7, 1e-12);  // shorter β = zeros
 }
 
+// gᵀS is how a function of the vertices changes with β: moving only the top vertex up by β₀
+// raises it 0.10 per unit, so the gradient of its height is (0.10, 0).
+TEST(BodyModel, ShapeGradientIsTheVertexGradientThroughTheDirections) {
+  const BodyModel m = test::toy_model();
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * m.vertex_count());
+  g(3 * m.landmark("vertex") + 1) = 1.0;  // ∂(top's height)/∂v
+  const Eigen::RowVectorXd along = m.shape_gradient(g);
+  ASSERT_EQ(along.size(), m.shape_count());
+  EXPECT_NEAR(along(0), 0.10, 1e-7);
+  // Against the double-precision product on a dense gradient.
+  const Eigen::VectorXd dense = Eigen::VectorXd::LinSpaced(3 * m.vertex_count(), -1.0, 1.0);
+  const Eigen::RowVectorXd exact = dense.transpose() * m.data().shape_directions;
+  EXPECT_LT((m.shape_gradient(dense) - exact).cwiseAbs().maxCoeff(), 1e-6 * (1 + exact.cwiseAbs().maxCoeff()));
+  EXPECT_THROW(m.shape_gradient(Eigen::VectorXd::Zero(4)), Error);
+}
+
 TEST(BodyModel, RejectsBadBeta) {
   const BodyModel m = test::toy_model();
   EXPECT_THROW(m.rest_vertices(Eigen::VectorXd::Zero(4)), Error);

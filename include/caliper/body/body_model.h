@@ -96,6 +96,9 @@ class BodyModel {
   // S·β is evaluated in single precision (see shape_directions_f_); T̄ is added in double.
   Vertices rest_vertices(const Eigen::VectorXd& beta) const;
   void rest_vertices(const Eigen::VectorXd& beta, Vertices& out) const;  // no allocation when sized
+  // gᵀS (1×K): how a function of the rest vertices changes with β, given its gradient g in the
+  // vertices (3N, x y z per vertex). In single precision, as rest_vertices (error ~1e-7 relative).
+  Eigen::RowVectorXd shape_gradient(const Eigen::VectorXd& vertex_gradient) const;
   // Joints J(β), J×3, from rest vertices.
   Eigen::MatrixX3d joints(const Vertices& rest) const;
 
@@ -107,8 +110,9 @@ class BodyModel {
 
  private:
   BodyModelData data_;
-  // Single-precision copy of the shape directions for rest_vertices: the product is bound by
-  // memory traffic, and float halves it (error ≤ 1e-8 m, far below any measurement's precision).
+  // Single-precision copy of the shape directions for rest_vertices and shape_gradient: the
+  // products are bound by memory traffic, and float halves it (error ≤ 1e-8 m, far below any
+  // measurement's precision).
   Eigen::MatrixXf shape_directions_f_;
   UvSplitMesh uv_split_;
 };
