@@ -98,10 +98,11 @@ enum TorsoKey {
   kNeck, kCervicale, kChin, kMouth, kNose, kGlabella, kTorsoKeyCount
 };
 // kArmpit: the axilla landmark's ring, just under the armpit hole whose bottom is kAxilla.
-// The face has rings about 5 mm apart from the chin to the mouth and 2.5 mm from the mouth to the
-// glabella, so the relief (sculpt()) can draw lips, nose and eyes; six rings between the cervicale and the chin let the
+// The face has rings about 5 mm apart from the chin to the mouth, 2.5 mm from the mouth to the
+// nose and 1.6 mm from the nose to the glabella, so the relief (sculpt()) can draw lips, nose and
+// the eyes' lids; six rings between the cervicale and the chin let the
 // fairing round the neck and the jaw's border under the chin (make_fairing()).
-constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 6, 8, 16, 20};
+constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 6, 8, 16, 30};
 // The jaw's lower border rises from the chin to the angle of the jaw: the chin ring's sides are
 // lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
@@ -139,6 +140,10 @@ constexpr double kEarDensity = 2.0;   // and across the ears
 // the middle stretch kMouthLevelHalf either side of the midline, which stays level.
 constexpr double kAlaX = 1.4, kAlaRadius = 0.9;
 constexpr double kMouthDroop = 0.35, kMouthLevelHalf = 1.0;
+// The eye's opening (eye_opening()): its middle, half-width, and the lids' heights over and
+// under its middle line; the margins' width; how far the eye lies behind the lids' margins.
+constexpr double kEyeX = 3.1, kEyeY = -2.75, kEyeHalfWidth = 1.45, kEyeUp = 0.5, kEyeDown = 0.35;
+constexpr double kEyeMargin = 0.22, kEyeRecess = 0.22;
 // The ear, in head centimetres from the glabella (Y up, scaled by the face's height; Z forward
 // of the head's centre): its centre and half-height and half-width.
 constexpr double kEarY = -4.3, kEarZ = -1.1, kEarRY = 2.8, kEarRZ = 1.7;
@@ -233,6 +238,18 @@ constexpr int arm_ring_count() {  // r0..web ring
   for (int v : kArmIntervals) k += v;
   return k;
 }
+// The face's fine rings: each has a vertex halfway between every two of its columns as well
+// (Builder::fine) over the face and the ears, so they are drawn on a grid about 2 mm across
+// instead of 4 mm (an eye had five columns). They run from kFineAboveChin rings over the chin
+// ring up to the ring under the glabella ring, which carries the head's measures and stays as
+// it is; under the first, the jaw's fairing keeps its one-rings (static_assert at
+// make_fairing()). Round the head from the front's middle to column kFineColumns and from its
+// mirror image back to the middle: the ears reach column 22 on the development bodies; the back
+// of the head, which has no features, keeps its columns (each fine vertex costs the estimator's
+// every step, docs/performance.md).
+constexpr int kFineAboveChin = 4, kFineColumns = 24;
+int fine_first() { return torso_key_ring(kChin) + kFineAboveChin; }
+int fine_last() { return torso_key_ring(kGlabella) - 1; }
 
 // Leg ring angles φ (0 = front, 90° = lateral, 180° = back, 270° = medial). The first 33 come
 // from the torso's half ring, the last 7 from the crotch bridge; 0/90/180/270° are exact points.
@@ -601,6 +618,13 @@ struct Builder {
 
   // Indices of ring structures (left side; the right side is the mirror).
   std::vector<std::vector<int>> torso;  // [ring][j], −1 inside the armpit holes
+  // The face's fine rings (fine_first() .. fine_last()): [ring − fine_first()][j], the vertex
+  // halfway between columns j and j + 1 (mod kTorsoN), or −1 where the ring has none there.
+  std::vector<std::vector<int>> fine;
+  int torso_at(int k, int j) const { return torso[static_cast<size_t>(k)][static_cast<size_t>(j)]; }
+  int fine_at(int k, int j) const {  // −1 off the fine rings
+    return k < fine_first() || k > fine_last() ? -1 : fine[static_cast<size_t>(k - fine_first())][static_cast<size_t>(j)];
+  }
   int head_pole = -1;
   std::vector<int> bridge;
   std::array<std::vector<std::vector<int>>, 2> leg, arm, thumb;  // [side][ring][k]; a digit's ring 0 is its base loop
@@ -637,6 +661,12 @@ struct Builder {
       tri(A[i], A[i1], B[i1], flip);
       tri(A[i], B[i1], B[i], flip);
     }
+  }
+  // A quad a, b, c, d counter-clockwise seen from outside, as two triangles cut along a–c, or
+  // along b–d (other_diagonal).
+  void quad(int a, int b, int c, int d, bool other_diagonal) {
+    if (other_diagonal) { tri(a, b, d, false); tri(b, c, d, false); }
+    else { tri(a, b, c, false); tri(a, c, d, false); }
   }
   void fan(const std::vector<int>& A, int pole, bool flip) {
     for (size_t i = 0; i < A.size(); ++i) tri(A[i], A[(i + 1) % A.size()], pole, flip);
@@ -1371,7 +1401,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       for (int k = 1; k < kh; ++k) {
         TorsoRing& r = P.torso[static_cast<size_t>(k)];
         const double u = (r.y - b.y) / (h.y - b.y), e = u * u * (3 - 2 * u);
-        auto round_under = [](double t) { return 1 - std::pow(1 - t, kSeatRoundUnder); };
+        auto round_under = [](double share) { return 1 - std::pow(1 - share, kSeatRoundUnder); };
         const double e_back = round_under(u);
         const double e_cheek = round_under(std::clamp(static_cast<double>(k - kl) / (kh - kl), 0.0, 1.0));
         r.a = P.hip_outline(r.y + P.torso_tilt_side[static_cast<size_t>(k)]); r.df = std::lerp(b.df, h.df, e); r.db = std::lerp(b.db, h.db, e_back);
@@ -1639,22 +1669,26 @@ void emit_facing(Builder& B, const std::array<int, 3>& t, const Vec3& outward) {
 void build(const BodyPlan& P, Builder& B) {
   const int nt = torso_ring_count(), kax = torso_key_ring(kAxilla);
   // Torso, neck, head.
+  // A point of ring k at column jf (fractional between columns); the right half (jf > 32) is the
+  // exact mirror of the left half.
+  auto torso_vertex = [&](int k, double jf) {
+    const double jj = jf <= kTorsoN / 2 ? jf : kTorsoN - jf;
+    const double t = 2 * kPi * jj / kTorsoN;
+    const double s = std::sin(t), c = std::cos(t);
+    const double y = torso_point_y(P, k, s, c);
+    const auto q = P.torso_resample[static_cast<size_t>(k)] ? torso_xz(P.torso_profile(y), t) : torso_xz(P.torso[static_cast<size_t>(k)], t);
+    const double x = (jj == 0 || jj == kTorsoN / 2) ? 0.0 : (jf == jj ? q.x() : -q.x());
+    return B.add({x, y, q.y()}, Part::Torso, x == 0 ? 0 : (x > 0 ? 1 : -1));
+  };
   B.torso.assign(static_cast<size_t>(nt), std::vector<int>(kTorsoN, -1));
-  for (int k = 0; k < nt; ++k) {
-    const TorsoRing& r = P.torso[static_cast<size_t>(k)];
-    for (int j = 0; j < kTorsoN; ++j) {
-      if (in_hole(k, j, kax)) continue;
-      // The right half is computed as the exact mirror of the left half.
-      const int jj = j <= kTorsoN / 2 ? j : kTorsoN - j;
-      const double t = 2 * kPi * jj / kTorsoN;
-      const double s = std::sin(t), c = std::cos(t);
-      const double y = torso_point_y(P, k, s, c);
-      const auto q = P.torso_resample[static_cast<size_t>(k)] ? torso_xz(P.torso_profile(y), t) : torso_xz(r, t);
-      const double x = (jj == 0 || jj == kTorsoN / 2) ? 0.0 : (j == jj ? q.x() : -q.x());
-      B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)] =
-          B.add({x, y, q.y()}, Part::Torso, x == 0 ? 0 : (x > 0 ? 1 : -1));
-    }
-  }
+  for (int k = 0; k < nt; ++k)
+    for (int j = 0; j < kTorsoN; ++j)
+      if (!in_hole(k, j, kax)) B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)] = torso_vertex(k, j);
+  B.fine.assign(static_cast<size_t>(fine_last() - fine_first() + 1), std::vector<int>(kTorsoN, -1));
+  for (int k = fine_first(); k <= fine_last(); ++k)
+    for (int j = 0; j < kTorsoN; ++j)
+      if (j < kFineColumns || j >= kTorsoN - kFineColumns)
+        B.fine[static_cast<size_t>(k - fine_first())][static_cast<size_t>(j)] = torso_vertex(k, j + 0.5);
   B.head_pole = B.add({0, P.head_top, P.torso.back().cz}, Part::Pole, 0);
   if (B.want_topology) {
     B.island(kIslandTorso);
@@ -1664,10 +1698,18 @@ void build(const BodyPlan& P, Builder& B) {
         const bool hole = (k >= kax && k < kax + kHoleRows) &&
                           ((j >= kHoleJ0 && j < kHoleJ1) || (j >= kTorsoN - kHoleJ1 && j < kTorsoN - kHoleJ0));
         if (hole) continue;
-        const auto& A = B.torso[static_cast<size_t>(k)];
-        const auto& C = B.torso[static_cast<size_t>(k + 1)];
-        B.tri(A[j], A[j1], C[j1], false);
-        B.tri(A[j], C[j1], C[j], false);
+        const int a0 = B.torso_at(k, j), a1 = B.torso_at(k, j1), c0 = B.torso_at(k + 1, j), c1 = B.torso_at(k + 1, j1);
+        const int ma = B.fine_at(k, j), mc = B.fine_at(k + 1, j);
+        if (ma >= 0 && mc >= 0) {  // two quads, cut along mirror-image diagonals on the two halves
+          B.quad(a0, ma, mc, c0, j >= kTorsoN / 2);
+          B.quad(ma, a1, c1, mc, j >= kTorsoN / 2);
+        } else if (mc >= 0) {  // the fine rings' first: three triangles round the upper edge's middle
+          B.tri(a0, a1, mc, false); B.tri(a1, c1, mc, false); B.tri(a0, mc, c0, false);
+        } else if (ma >= 0) {  // after their last: round the lower edge's middle
+          B.tri(a0, ma, c0, false); B.tri(ma, a1, c1, false); B.tri(ma, c1, c0, false);
+        } else {
+          B.quad(a0, a1, c1, c0, false);
+        }
       }
     B.fan(B.torso.back(), B.head_pole, false);
   }
@@ -2214,6 +2256,8 @@ struct Fairing {
 };
 constexpr int kFoldFillIterations = 40, kFoldFillFade = 6;
 constexpr int kFairChinRingsAbove = 2, kFairChinColumns = 14;  // the jaw's fairing (make_fairing())
+// The faired rings' neighbours (one ring higher) must not touch the fine rings' vertices.
+static_assert(kFineAboveChin >= kFairChinRingsAbove + 2);
 
 // Each vertex's distance in edges from the nearest of `from[i]` where `among[i]` holds
 // (breadth-first; a large number where none is reachable).
@@ -2462,6 +2506,113 @@ double ear_zone(double Y, double Z) {
   return (1 - smoothstep(1.0, 2.4, std::abs(Y - kEarY) / kEarRY)) * (1 - smoothstep(1.0, 1.6, std::abs(Z - kEarZ) / kEarRZ));
 }
 
+// The eye's opening (the palpebral fissure), in head centimetres: 1 inside, 0 outside, over the
+// lids' margins kEyeMargin wide. An almond 2·kEyeHalfWidth from corner to corner; the upper lid's
+// arch is highest toward the nose, the lower lid's lowest toward the ear, and the outer corner
+// lies a little higher than the inner.
+double eye_opening(double X, double Y) {
+  if (std::abs(X - kEyeX) >= kEyeHalfWidth) return 0.0;
+  auto lids = [](double x) {  // the upper and the lower lid's line at x
+    const double s = std::clamp((x - kEyeX) / kEyeHalfWidth, -1.0, 1.0), w = 1 - s * s, mid = kEyeY + 0.05 * s;
+    return std::pair{mid + kEyeUp * w * (1 - 0.25 * s), mid - kEyeDown * w * (1 + 0.2 * s)};
+  };
+  // Y's distance from each line measured across it, not straight down: toward the corners the
+  // lines are steep, and there a vertical margin was a sliver that the columns cut into teeth.
+  const double e = 0.01;
+  const auto [up, down] = lids(X);
+  const auto [up0, down0] = lids(X - e);
+  const auto [up1, down1] = lids(X + e);
+  const double to_up = (up - Y) / std::hypot(1.0, (up1 - up0) / (2 * e));
+  const double to_down = (Y - down) / std::hypot(1.0, (down1 - down0) / (2 * e));
+  return smoothstep(0, kEyeMargin, to_up) * smoothstep(0, kEyeMargin, to_down);
+}
+
+// The face's relief, head centimetres outward, at (X, Y) head centimetres from the glabella (X
+// across from the midline, Y up; sculpt() fades it out toward the head's sides).
+double face_height(double X, double Y) {
+  double f = 0;
+  // Brow ridge, under the glabella ring, ending level at it (that ring carries the head's
+  // measures and does not move: a ridge that stops short of it shades a line across the forehead).
+  f += 0.42 * blob(X - 2.9, Y + 1.3, 2.8, 1.3);
+  // Eye socket: deep under the brow, shallow under the eye, so the lower lid runs on into
+  // the cheek (a socket as deep below as above left a dark band under each eye and a
+  // bright one across the cheekbones: a face in stripes).
+  {
+    const double dy = Y + 2.35;
+    f -= 0.55 * blob(X - 3.1, dy, 1.9, dy < 0 ? 0.9 : 1.35);
+  }
+  // The eye, about 3 cm from corner to corner: a blob is flat only over about half its
+  // radius, so the eye and its lids' line reach 1.75 out (an opening of radius 1.25 read as
+  // a slit).
+  f += 0.42 * blob(X - 3.1, Y + 2.7, 1.75, 0.95);  // the eyeball, under the lids
+  // The opening between the lids, the eye behind their margins, and the cornea's bulge. On the
+  // face's fine rings the margins are crisp lines round an almond; before those (until
+  // 2026-11-29) the grid was 4–6 mm across and 2.5 mm high, and blobs drew a slit.
+  f -= (kEyeRecess - 0.04 * blob(X - kEyeX, Y - kEyeY, 0.9, 0.6)) * eye_opening(X, Y);
+  f -= 0.12 * blob(X - 3.0, Y + 2.0, 1.7, 0.45);   // the upper lid's crease
+  f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
+  f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
+  // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
+  {
+    const double y_top = -1.4, y_tip = -5.4, y_base = -6.9, height = 1.6;
+    double prof = 0;
+    if (Y <= y_top && Y >= y_tip) prof = std::pow((y_top - Y) / (y_top - y_tip), 1.3);
+    else if (Y < y_tip && Y > y_base) prof = 1 - smoothstep(0.0, 1.0, (y_tip - Y) / (y_tip - y_base));
+    const double half = std::lerp(1.1, 2.0, std::clamp((y_top - Y) / (y_top - y_tip), 0.0, 1.0));
+    f += height * prof * blob(X, 0, half, 1);
+    // The tip's rounded end, a third of the nose's height: the bridge's ramp alone ended in
+    // a corner, a spike in profile (2.3 high with a 0.55 tip, until 2026-11-28).
+    f += 0.85 * blob(X, Y + 5.5, 1.5, 1.5);
+    {  // the nostrils' wings, easing down into the upper lip (a sharp lower edge shaded a moustache)
+      // Their middles 1.4 head-cm from the midline, so the nose's base is about 3.7 cm wide, as
+      // a real one is: at 1.7 with radius 1 (until 2026-11-28) it was 4.4 cm, a ball on each
+      // side of a thin nose.
+      const double dy = Y + 5.9;
+      f += 0.55 * blob(X - kAlaX, dy, kAlaRadius, dy < 0 ? 1.6 : 0.9);
+      // the alar groove round each wing's top and back, which sets it off the cheek
+      f -= 0.07 * (blob(X - kAlaX, Y + 5.6, 1.6, 1.3) - blob(X - kAlaX, Y + 5.6, 1.15, 0.9));
+    }
+  }
+  // No hollow under the cheekbone: the head rings' own curve carries the face round to the
+  // ears, and a relief falling back from the midline had to rise again where the front
+  // weight ends, a trough that made the face a skull's. No cheekbone ridge either: its
+  // lit top and shaded underside drew one more band across the face; the cheek is one
+  // round fullness.
+  // The cheek, under the eye: full beside the nose and the mouth's corners it rounded into
+  // a grin (0.40 at Y = −6.0).
+  f += 0.28 * blob(X - 3.2, Y + 5.3, 2.0, 2.4);
+  f += 0.40 * blob(X - 4.8, Y + 7.2, 2.4, 3.0);    // the cheek's side over the jaw (no gaunt hollow)
+  // The muzzle: the teeth's arch carries the mouth forward as a whole, the cheeks round
+  // into it (without it the lips sat on a flat plate and the nose's shadow ran out
+  // sideways as a grin).
+  f += 0.45 * blob(X, Y + 8.4, 3.6, 3.0);
+  // Lips: each rises slowly from the skin and drops steeply into the mouth line, so the upper
+  // lip faces down and the lower lip up, as real ones do (rounded both ways, each lip was lit
+  // as a bar across the face); both thin out toward the corners.
+  auto lip = [&](double dy, double rx, double ry_up, double ry_down) {
+    return blob(X, dy, rx, (dy > 0 ? ry_up : ry_down) * std::sqrt(std::max(0.2, 1 - sq(X / rx))));
+  };
+  // The mouth about 5 cm wide (at radii 2.1 and 1.9 it was a child's pout under a grin).
+  // The lips' line bends down toward the corners, 8 mm at 2.5 head-cm out (kMouthDroop):
+  // drawn level on a face that curves back, it read as a grin from in front (until
+  // 2026-11-28). Its middle 2 head-cm stay level: bent there too, the mouth line crossed
+  // the rings at the midline and pinched (the head's largest angle 108° → 129° over the
+  // development subset; 111° on one mean body, 88° level).
+  auto droop = [](double across) { return kMouthDroop * sq(std::max(0.0, across - kMouthLevelHalf)); };
+  const double Ym = Y + droop(X);
+  f += 0.38 * lip(Ym + 8.2, 2.6, 1.4, 0.35);       // upper lip
+  f += 0.40 * lip(Ym + 8.85, 2.3, 0.4, 0.95);      // lower lip
+  f -= 0.18 * lip(Ym + 8.5, 2.7, 0.25, 0.25);      // mouth line, about as wide as the lips
+  f -= 0.10 * blob(X, Y + 7.0, 0.45, 0.9);         // the philtrum's groove
+  f -= 0.08 * blob(X - 2.7, Y + droop(2.7) + 8.5, 0.8, 0.8);  // mouth corners, lowered whole
+  f -= 0.22 * blob(X, Y + 10.3, 1.7, 0.7);         // labiomental fold (2.2 wide, it drew a grin's line)
+  f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
+  // No jaw line of its own: the lifted chin ring is the mandible's lower border, faired
+  // into the floor of the mouth (make_fairing()). A ridge along it over a hollow under it
+  // drew the border as a crisp line from the chin to the ear, a mask's rim.
+  return f;
+}
+
 // The ear's height off the side of the head, head centimetres: a shell standing out most at its
 // back edge (its front is the cheek's), with a rim (the helix) round its top and back, the
 // lobe without one, and a bowl (the concha) in front of the rim's lower half. A shell and one
@@ -2549,6 +2700,20 @@ void respace_torso_columns(Builder& B, const std::set<int>& pinned, const HeadFr
   }
 }
 
+// The fine rings' halfway vertices, once the columns are re-spaced: on the chord between their
+// columns, so the surface is the one the columns make and only the relief (sculpt()) draws finer.
+// (On the cubic through the four nearest columns, the fine rings stood fuller than the coarse
+// ones over them by a tenth of a millimetre, and the temples showed a line along the glabella
+// ring.) Left half; the right is its mirror.
+void place_fine(Builder& B) {
+  for (int k = fine_first(); k <= fine_last(); ++k)
+    for (int j = 0; j < kFineColumns; ++j) {
+      const Vec3 p = 0.5 * (B.v[static_cast<size_t>(B.torso_at(k, j))] + B.v[static_cast<size_t>(B.torso_at(k, j + 1))]);
+      B.v[static_cast<size_t>(B.fine_at(k, j))] = p;
+      B.v[static_cast<size_t>(B.fine_at(k, kTorsoN - 1 - j))] = mirror(p);
+    }
+}
+
 // The groin, filled outside its fold. Where the belly's lowest rings hug the thighs they fell up
 // to 8 mm behind the thigh's front below them and the hip ring above (the thigh is a round tube,
 // the torso's rings one superellipse round both): a level groove across the front, the hem of a
@@ -2614,6 +2779,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
     std::set<int> pinned;
     for (const auto& [name, id] : B.landmarks) pinned.insert(id);
     respace_torso_columns(B, pinned, H);
+    place_fine(B);
   }
   const std::vector<Vec3> v0 = v;
   std::vector<double> D(v.size(), 0.0);      // outward displacement, metres
@@ -2637,6 +2803,117 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   auto groin_fold_x = [&](double y) { return std::lerp(groin0.x(), iliac_front.x(), std::clamp((y - groin0.y()) / (iliac_front.y() - groin0.y()), 0.0, 1.0)); };
 
   // -- Torso, neck and head (left half, j = 0..32).
+  // The relief's height (metres, outward) at p on ring k, column jf of the left half (fractional
+  // on the face's fine rings).
+  auto torso_relief = [&](const Vec3& p, int k, double jf) {
+    const double t = 2 * kPi * jf / kTorsoN, c = std::cos(t), s = std::sin(t);
+    const double x = std::abs(p.x()), y = p.y();
+    const double front = smoothstep(0.25, 0.65, c), back = smoothstep(0.25, 0.65, -c);
+    double h = 0;
+    if (y > y_cv) {
+      // The face, in head centimetres from the glabella (X across, Y up; face_height()).
+      const double X = H.X(x), Y = H.Y(y);
+      // Faded out toward the head's sides by the point's place across its ring, not by its
+      // column: the face's columns are respaced (respace_torso_columns), so a column's index
+      // no longer says where it lies.
+      const double face_front = jf <= kTorsoN / 4 ? 1 - smoothstep(0.78, 0.98, x / P.torso[static_cast<size_t>(k)].a) : 0.0;
+      h += face_front * face_height(X, Y) * hu;
+      // Ears, on the head's sides (by place, not column: the ears' columns are respaced too).
+      const double side = smoothstep(0.55, 0.85, x / P.torso[static_cast<size_t>(k)].a);
+      h += side * ear_height(Y, H.Z(p.z())) * hu;
+    }
+    // Torso, front.
+    {
+      // Groove between the pectorals / breasts, running on as the linea alba to the navel.
+      const double g = female ? 0.75 * cm : 0.90 * cm;
+      const double along = window(y, y_w + 2 * cm, y_us, y_acr - 8 * cm, y_acr - 2.5 * cm);
+      const double upper = smoothstep(y_us - 3 * cm, y_us + 4 * cm, y);
+      h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, female ? 4.5 : 5.0, upper) * cm, 1);
+      // Men: the pectorals' lower border, rising from the sternum to the armpit.
+      if (!female) {
+        // Shallow and wide: 1.1 cm deep, rising over 2.6 cm above, it drew a line across the chest.
+        const double amp = (1 - fem) * 0.9 * cm;
+        const double yb = y_ch - 3.2 * cm + 6.5 * cm * sq(x / a_ch);
+        const double dy = y - yb;
+        const double prof = dy > 0 ? blob(dy, 0, 3.5 * cm, 1) : blob(dy, 0, 6.0 * cm, 1);
+        h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * a_ch, 0.9 * a_ch);
+      }
+      // Women: the fold under each breast.
+      if (fem > 0) {
+        const double xb = 0.62 * a_ch;
+        const double yb = y_ch - 7.0 * cm + 2.5 * cm * sq((x - xb) / (0.45 * a_ch));
+        const double dy = y - yb;
+        const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
+        h -= front * fem * 0.6 * cm * prof * blob(x - xb, 0, 0.6 * a_ch, 1);
+      }
+      // Clavicles: a ridge from the sternum to the shoulder, hollows above and below it.
+      const double x0 = 1.8 * cm, x1 = a_sh - 4.0 * cm;
+      if (x1 > x0) {
+        const double u = std::clamp((x - x0) / (x1 - x0), 0.0, 1.0);
+        const double ycl = y_acr - 2.4 * cm + 1.6 * cm * u;
+        const double along_cl = window(x, x0 - 1 * cm, x0 + 1 * cm, x1 - 1.5 * cm, x1 + 0.5 * cm);
+        h += front * along_cl * 0.30 * cm * blob(y - ycl, 0, 2.0 * cm, 1);
+        h -= front * 0.60 * cm * blob(x - (x0 + 0.55 * (x1 - x0)), y - (ycl + 2.8 * cm), 0.35 * (x1 - x0), 2.0 * cm) *
+             (1 - smoothstep(y_nk - 2.5 * cm, y_nk - 0.5 * cm, y));  // not into the neck's girth
+        h -= front * 0.30 * cm * blob(x - (x0 + 0.7 * (x1 - x0)), y - (ycl - 3.2 * cm), 0.3 * (x1 - x0), 1.8 * cm);
+      }
+      // Women: the breasts' upper slope eases into the upper chest (the lofted profile bends
+      // there, a line across the chest).
+      if (fem > 0)
+        h += front * fem * 0.45 * cm * blob(x - 0.55 * a_ch, y - (y_ax - 0.5 * cm), 0.7 * a_ch, 3.5 * cm);
+      // The rib cage's lower border: an inverted V from the sternum's tip out to the flanks,
+      // the belly below it a little hollow.
+      {
+        const double yr = y_us + 2.0 * cm - 6.0 * cm * std::min(1.0, x / (0.8 * a_ch));
+        const double dy = yr - y;  // > 0 below the border
+        const double below = dy > 0 ? blob(dy - 2.0 * cm, 0, 3.0 * cm, 1) : 0.0;
+        h -= front * (0.25 - 0.1 * fem) * cm * below * window(x, 1.0 * cm, 3.0 * cm, 0.75 * a_ch, 0.95 * a_ch) *
+             smoothstep(y_w + 1.5 * cm, y_w + 4 * cm, y);
+      }
+      // The front of the iliac crest (its anterior spine), between the hip and waist sections.
+      {
+        const double ry = 0.3 * (y_w - y_hip);
+        h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - iliac_front.x(), y - iliac_front.y(), 2.5 * cm, ry);
+      }
+      // The groin: the fold where the thigh's front meets the lower belly, from beside the crotch
+      // up and out toward the iliac crest's front. Without it the belly ended in a level line
+      // across both thighs, the hem of a pair of shorts.
+      {
+        const Eigen::Vector2d e = iliac_front - groin0, q(x, y);
+        const double u = std::clamp((q - groin0).dot(e) / e.squaredNorm(), 0.0, 1.0);
+        const double dist = (q - (groin0 + u * e)).norm();
+        h -= front * std::lerp(0.5, 0.4, fem) * cm * window(u, 0.0, 0.3, 0.75, 1.0) * blob(dist, 0, 2.0 * cm, 1);
+      }
+      // Navel: a dimple just under the omphalion (which keeps its place and depth).
+      h -= front * 0.45 * cm * blob(x, y - (y_w - 0.9 * cm), 1.6 * cm, 1.0 * cm);
+    }
+    // The neck's base: the ring under the neck flares less, so the neck flows into the
+    // trapezius and the collarbones instead of standing on a collar.
+    {
+      h -= 0.35 * cm * blob(y - y_s2, 0, y_nk - y_s2, 1) * smoothstep(0.15, 0.6, s);
+    }
+    // Torso, back.
+    {
+      // The lower back's hollow above the waist (its section untouched).
+      {
+        const double ry = 0.45 * (y_us - y_w);
+        h -= back * 0.35 * cm * blob(x, y - 0.5 * (y_w + y_us), 0.55 * a_ch, ry);
+      }
+      // Gluteal fold: under each buttock over the back of the thigh, rising toward the midline.
+      {
+        const double xe = thigh_out;
+        const double yf = y_gf - 1.5 * cm * sq(std::min(1.0, x / xe));
+        const double dy = y - yf;
+        const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.0 * cm, 1);
+        // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
+        h -= back * 0.55 * cm * smoothstep(2.0 * cm, 5.0 * cm, y_gf - P.crotch_y) * prof * window(x, 1.0 * cm, 3.5 * cm, 0.75 * xe, 0.95 * xe);
+      }
+      // Shoulder blades.
+      const double ys = y_ch + 0.55 * (y_acr - y_ch), ry = std::max(0.5 * cm, 0.4 * (y_acr - y_ch));
+      h += back * 0.8 * cm * blob(x - 0.42 * a_ch, y - ys, 0.32 * a_ch, ry);
+    }
+    return h;
+  };
   const Grid T{&B.torso};
   const int nt = T.rings();
   for (int k = 0; k < nt; ++k)
@@ -2644,195 +2921,15 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       const int id = T.id(k, j);
       if (id < 0) continue;
       N[static_cast<size_t>(id)] = ring_normal(T, v0, k, j);
-      const Vec3& p = v0[static_cast<size_t>(id)];
-      const double t = 2 * kPi * j / kTorsoN, c = std::cos(t), s = std::sin(t);
-      const double x = std::abs(p.x()), y = p.y();
-      const double front = smoothstep(0.25, 0.65, c), back = smoothstep(0.25, 0.65, -c);
-      double h = 0;
-      if (y > y_cv) {
-        // Face, in head centimetres from the glabella (X across, Y up).
-        const double X = H.X(x), Y = H.Y(y);
-        double f = 0;
-        // Brow ridge, under the glabella ring, ending level at it (that ring carries the head's
-        // measures and does not move: a ridge that stops short of it shades a line across the forehead).
-        f += 0.42 * blob(X - 2.9, Y + 1.3, 2.8, 1.3);
-        // Eye socket: deep under the brow, shallow under the eye, so the lower lid runs on into
-        // the cheek (a socket as deep below as above left a dark band under each eye and a
-        // bright one across the cheekbones: a face in stripes).
-        {
-          const double dy = Y + 2.35;
-          f -= 0.85 * blob(X - 3.1, dy, 1.9, dy < 0 ? 0.9 : 1.35);
-        }
-        // The eye, about 3 cm from corner to corner: a blob is flat only over about half its
-        // radius, so the eye and its lids' line reach 1.75 out (an opening of radius 1.25 read as
-        // a slit).
-        f += 0.42 * blob(X - 3.1, Y + 2.7, 1.75, 0.95);  // the eye (lids) inside it
-        // The lids' margins, an almond line round the eyeball (a hollow opening with the cornea
-        // standing in it read as a closed, squinting eye).
-        f -= 0.16 * (blob(X - 3.1, Y + 2.75, 1.75, 0.62) - blob(X - 3.1, Y + 2.75, 1.4, 0.4));
-        f -= 0.06 * blob(X - 3.1, Y + 2.75, 1.7, 0.55);  // the eye a little behind the lids
-        f += 0.06 * blob(X - 3.1, Y + 2.8, 1.1, 0.45);   // the eyeball's front (cornea)
-        f -= 0.12 * blob(X - 3.0, Y + 2.0, 1.7, 0.45);   // the upper lid's crease
-        f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
-        f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
-        // Nose: a bridge rising from the nasion to the tip, the tip's underside back to the lip.
-        {
-          const double y_top = -1.4, y_tip = -5.4, y_base = -6.9, height = 1.6;
-          double prof = 0;
-          if (Y <= y_top && Y >= y_tip) prof = std::pow((y_top - Y) / (y_top - y_tip), 1.3);
-          else if (Y < y_tip && Y > y_base) prof = 1 - smoothstep(0.0, 1.0, (y_tip - Y) / (y_tip - y_base));
-          const double half = std::lerp(1.1, 2.0, std::clamp((y_top - Y) / (y_top - y_tip), 0.0, 1.0));
-          f += height * prof * blob(X, 0, half, 1);
-          // The tip's rounded end, a third of the nose's height: the bridge's ramp alone ended in
-          // a corner, a spike in profile (2.3 high with a 0.55 tip, until 2026-11-28).
-          f += 0.85 * blob(X, Y + 5.5, 1.5, 1.5);
-          {  // the nostrils' wings, easing down into the upper lip (a sharp lower edge shaded a moustache)
-            // Their middles 1.4 head-cm from the midline, so the nose's base is about 3.7 cm wide, as
-            // a real one is: at 1.7 with radius 1 (until 2026-11-28) it was 4.4 cm, a ball on each
-            // side of a thin nose.
-            const double dy = Y + 5.9;
-            f += 0.75 * blob(X - kAlaX, dy, kAlaRadius, dy < 0 ? 1.6 : 0.9);
-            // the alar groove round each wing's top and back, which sets it off the cheek
-            f -= 0.15 * (blob(X - kAlaX, Y + 5.6, 1.6, 1.3) - blob(X - kAlaX, Y + 5.6, 1.15, 0.9));
-          }
-        }
-        // No hollow under the cheekbone: the head rings' own curve carries the face round to the
-        // ears, and a relief falling back from the midline had to rise again where the front
-        // weight ends, a trough that made the face a skull's. No cheekbone ridge either: its
-        // lit top and shaded underside drew one more band across the face; the cheek is one
-        // round fullness.
-        // The cheek, under the eye: full beside the nose and the mouth's corners it rounded into
-        // a grin (0.40 at Y = −6.0).
-        f += 0.28 * blob(X - 3.2, Y + 5.3, 2.0, 2.4);
-        f += 0.40 * blob(X - 4.8, Y + 7.2, 2.4, 3.0);    // the cheek's side over the jaw (no gaunt hollow)
-        // The muzzle: the teeth's arch carries the mouth forward as a whole, the cheeks round
-        // into it (without it the lips sat on a flat plate and the nose's shadow ran out
-        // sideways as a grin).
-        f += 0.45 * blob(X, Y + 8.4, 3.6, 3.0);
-        // Lips: each rises slowly from the skin and drops steeply into the mouth line, so the upper
-        // lip faces down and the lower lip up, as real ones do (rounded both ways, each lip was lit
-        // as a bar across the face); both thin out toward the corners.
-        auto lip = [&](double dy, double rx, double ry_up, double ry_down) {
-          return blob(X, dy, rx, (dy > 0 ? ry_up : ry_down) * std::sqrt(std::max(0.2, 1 - sq(X / rx))));
-        };
-        // The mouth about 5 cm wide (at radii 2.1 and 1.9 it was a child's pout under a grin).
-        // The lips' line bends down toward the corners, 8 mm at 2.5 head-cm out (kMouthDroop):
-        // drawn level on a face that curves back, it read as a grin from in front (until
-        // 2026-11-28). Its middle 2 head-cm stay level: bent there too, the mouth line crossed
-        // the rings at the midline and pinched (the head's largest angle 108° → 129° over the
-        // development subset; 111° on one mean body, 88° level).
-        auto droop = [](double x) { return kMouthDroop * sq(std::max(0.0, x - kMouthLevelHalf)); };
-        const double Ym = Y + droop(X);
-        f += 0.38 * lip(Ym + 8.2, 2.6, 1.4, 0.35);       // upper lip
-        f += 0.40 * lip(Ym + 8.85, 2.3, 0.4, 0.95);      // lower lip
-        f -= 0.18 * lip(Ym + 8.5, 2.7, 0.25, 0.25);      // mouth line, about as wide as the lips
-        f -= 0.10 * blob(X, Y + 7.0, 0.45, 0.9);         // the philtrum's groove
-        f -= 0.08 * blob(X - 2.7, Y + droop(2.7) + 8.5, 0.8, 0.8);  // mouth corners, lowered whole
-        f -= 0.22 * blob(X, Y + 10.3, 1.7, 0.7);         // labiomental fold (2.2 wide, it drew a grin's line)
-        f += 0.50 * blob(X, Y + 11.8, 2.2, 1.4);         // chin
-        // No jaw line of its own: the lifted chin ring is the mandible's lower border, faired
-        // into the floor of the mouth (make_fairing()). A ridge along it over a hollow under it
-        // drew the border as a crisp line from the chin to the ear, a mask's rim.
-        // Faded out toward the head's sides by the point's place across its ring, not by its
-        // column: the face's columns are respaced (respace_torso_columns), so a column's index
-        // no longer says where it lies.
-        const double face_front = j <= kTorsoN / 4 ? 1 - smoothstep(0.78, 0.98, x / P.torso[static_cast<size_t>(k)].a) : 0.0;
-        h += face_front * f * hu;
-        // Ears, on the head's sides (by place, not column: the ears' columns are respaced too).
-        const double side = smoothstep(0.55, 0.85, x / P.torso[static_cast<size_t>(k)].a);
-        h += side * ear_height(Y, H.Z(p.z())) * hu;
-      }
-      // Torso, front.
-      {
-        // Groove between the pectorals / breasts, running on as the linea alba to the navel.
-        const double g = female ? 0.75 * cm : 0.90 * cm;
-        const double along = window(y, y_w + 2 * cm, y_us, y_acr - 8 * cm, y_acr - 2.5 * cm);
-        const double upper = smoothstep(y_us - 3 * cm, y_us + 4 * cm, y);
-        h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, female ? 4.5 : 5.0, upper) * cm, 1);
-        // Men: the pectorals' lower border, rising from the sternum to the armpit.
-        if (!female) {
-          // Shallow and wide: 1.1 cm deep, rising over 2.6 cm above, it drew a line across the chest.
-          const double amp = (1 - fem) * 0.9 * cm;
-          const double yb = y_ch - 3.2 * cm + 6.5 * cm * sq(x / a_ch);
-          const double dy = y - yb;
-          const double prof = dy > 0 ? blob(dy, 0, 3.5 * cm, 1) : blob(dy, 0, 6.0 * cm, 1);
-          h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * a_ch, 0.9 * a_ch);
-        }
-        // Women: the fold under each breast.
-        if (fem > 0) {
-          const double xb = 0.62 * a_ch;
-          const double yb = y_ch - 7.0 * cm + 2.5 * cm * sq((x - xb) / (0.45 * a_ch));
-          const double dy = y - yb;
-          const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
-          h -= front * fem * 0.6 * cm * prof * blob(x - xb, 0, 0.6 * a_ch, 1);
-        }
-        // Clavicles: a ridge from the sternum to the shoulder, hollows above and below it.
-        const double x0 = 1.8 * cm, x1 = a_sh - 4.0 * cm;
-        if (x1 > x0) {
-          const double u = std::clamp((x - x0) / (x1 - x0), 0.0, 1.0);
-          const double ycl = y_acr - 2.4 * cm + 1.6 * cm * u;
-          const double along_cl = window(x, x0 - 1 * cm, x0 + 1 * cm, x1 - 1.5 * cm, x1 + 0.5 * cm);
-          h += front * along_cl * 0.30 * cm * blob(y - ycl, 0, 2.0 * cm, 1);
-          h -= front * 0.60 * cm * blob(x - (x0 + 0.55 * (x1 - x0)), y - (ycl + 2.8 * cm), 0.35 * (x1 - x0), 2.0 * cm) *
-               (1 - smoothstep(y_nk - 2.5 * cm, y_nk - 0.5 * cm, y));  // not into the neck's girth
-          h -= front * 0.30 * cm * blob(x - (x0 + 0.7 * (x1 - x0)), y - (ycl - 3.2 * cm), 0.3 * (x1 - x0), 1.8 * cm);
-        }
-        // Women: the breasts' upper slope eases into the upper chest (the lofted profile bends
-        // there, a line across the chest).
-        if (fem > 0)
-          h += front * fem * 0.45 * cm * blob(x - 0.55 * a_ch, y - (y_ax - 0.5 * cm), 0.7 * a_ch, 3.5 * cm);
-        // The rib cage's lower border: an inverted V from the sternum's tip out to the flanks,
-        // the belly below it a little hollow.
-        {
-          const double yr = y_us + 2.0 * cm - 6.0 * cm * std::min(1.0, x / (0.8 * a_ch));
-          const double dy = yr - y;  // > 0 below the border
-          const double below = dy > 0 ? blob(dy - 2.0 * cm, 0, 3.0 * cm, 1) : 0.0;
-          h -= front * (0.25 - 0.1 * fem) * cm * below * window(x, 1.0 * cm, 3.0 * cm, 0.75 * a_ch, 0.95 * a_ch) *
-               smoothstep(y_w + 1.5 * cm, y_w + 4 * cm, y);
-        }
-        // The front of the iliac crest (its anterior spine), between the hip and waist sections.
-        {
-          const double ry = 0.3 * (y_w - y_hip);
-          h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - iliac_front.x(), y - iliac_front.y(), 2.5 * cm, ry);
-        }
-        // The groin: the fold where the thigh's front meets the lower belly, from beside the crotch
-        // up and out toward the iliac crest's front. Without it the belly ended in a level line
-        // across both thighs, the hem of a pair of shorts.
-        {
-          const Eigen::Vector2d e = iliac_front - groin0, q(x, y);
-          const double u = std::clamp((q - groin0).dot(e) / e.squaredNorm(), 0.0, 1.0);
-          const double dist = (q - (groin0 + u * e)).norm();
-          h -= front * std::lerp(0.5, 0.4, fem) * cm * window(u, 0.0, 0.3, 0.75, 1.0) * blob(dist, 0, 2.0 * cm, 1);
-        }
-        // Navel: a dimple just under the omphalion (which keeps its place and depth).
-        h -= front * 0.45 * cm * blob(x, y - (y_w - 0.9 * cm), 1.6 * cm, 1.0 * cm);
-      }
-      // The neck's base: the ring under the neck flares less, so the neck flows into the
-      // trapezius and the collarbones instead of standing on a collar.
-      {
-        h -= 0.35 * cm * blob(y - y_s2, 0, y_nk - y_s2, 1) * smoothstep(0.15, 0.6, s);
-      }
-      // Torso, back.
-      {
-        // The lower back's hollow above the waist (its section untouched).
-        {
-          const double ry = 0.45 * (y_us - y_w);
-          h -= back * 0.35 * cm * blob(x, y - 0.5 * (y_w + y_us), 0.55 * a_ch, ry);
-        }
-        // Gluteal fold: under each buttock over the back of the thigh, rising toward the midline.
-        {
-          const double xe = thigh_out;
-          const double yf = y_gf - 1.5 * cm * sq(std::min(1.0, x / xe));
-          const double dy = y - yf;
-          const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.0 * cm, 1);
-          // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
-          h -= back * 0.55 * cm * smoothstep(2.0 * cm, 5.0 * cm, y_gf - P.crotch_y) * prof * window(x, 1.0 * cm, 3.5 * cm, 0.75 * xe, 0.95 * xe);
-        }
-        // Shoulder blades.
-        const double ys = y_ch + 0.55 * (y_acr - y_ch), ry = std::max(0.5 * cm, 0.4 * (y_acr - y_ch));
-        h += back * 0.8 * cm * blob(x - 0.42 * a_ch, y - ys, 0.32 * a_ch, ry);
-      }
-      D[static_cast<size_t>(id)] = h;
+      D[static_cast<size_t>(id)] = torso_relief(v0[static_cast<size_t>(id)], k, j);
+    }
+  // The fine rings' halfway vertices, each moved along its chord's outward normal.
+  for (int k = fine_first(); k <= fine_last(); ++k)
+    for (int j = 0; j < kFineColumns; ++j) {
+      const int id = B.fine_at(k, j);
+      const Vec3 chord = v0[static_cast<size_t>(T.id(k, j + 1))] - v0[static_cast<size_t>(T.id(k, j))];
+      N[static_cast<size_t>(id)] = Vec3(-chord.z(), 0, chord.x()).normalized();
+      D[static_cast<size_t>(id)] = torso_relief(v0[static_cast<size_t>(id)], k, j + 0.5);
     }
   // The spine groove and the erector muscles beside it, ring by ring (see the section comment).
   for (int k = 0; k < nt; ++k) {
@@ -2932,6 +3029,12 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   for (const char* name : {"neck_front", "glabella"}) mark_section(T, v0, ly(name), 0, nt - 1, girth_only);
   for (const char* name : {"thigh_left", "lower_thigh_left", "calf_left", "ankle_left"})
     mark_section(L, v0, ly(name), 1, L.rings() - 1, girth_only);
+  for (int k = fine_first(); k <= fine_last(); ++k)  // a halfway vertex as its columns
+    for (int j = 0; j < kFineColumns; ++j)
+      for (auto* marks : {&on, &girth_only}) {
+        auto& m = *marks;
+        m[static_cast<size_t>(B.fine_at(k, j))] = m[static_cast<size_t>(T.id(k, j))] || m[static_cast<size_t>(T.id(k, j + 1))];
+      }
   for (size_t i = 0; i < v.size(); ++i)
     D[i] = girth_only[i] ? 0.0 : (on[i] ? std::min(D[i], 0.0) : D[i]) + ridge[i];
   const std::set<std::string> height_only = {"chest_front", "neck_front", "knee_left", "knee_right",
@@ -2947,6 +3050,12 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
       if (j == 0 || j == kTorsoN / 2) v[static_cast<size_t>(id)].x() = 0;
       else v[static_cast<size_t>(T.id(k, kTorsoN - j))] = mirror(v[static_cast<size_t>(id)]);
+    }
+  for (int k = fine_first(); k <= fine_last(); ++k)
+    for (int j = 0; j < kFineColumns; ++j) {
+      const int id = B.fine_at(k, j);
+      v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
+      v[static_cast<size_t>(B.fine_at(k, kTorsoN - 1 - j))] = mirror(v[static_cast<size_t>(id)]);
     }
   // A limb: its left side moved, the right side its mirror (ids −1: a toe's or the thumb's hole).
   auto apply_limb = [&](const Grid& left, const std::vector<std::vector<int>>& right) {
@@ -2998,6 +3107,8 @@ struct RingStack {
   std::vector<int> seams;  // the columns cut open, increasing; one island between each two
   int pole = -1;           // the vertex closing the last ring, or −1
   bool downward = false;   // v decreases along the stack (legs and arms: feet and hands down)
+  const Builder* fine = nullptr;  // the torso: its fine rings' halfway vertices (Builder::fine)
+  int fine_at(int r, int c) const { return fine ? fine->fine_at(r, c) : -1; }
 };
 
 struct IslandUv {
@@ -3007,6 +3118,8 @@ struct IslandUv {
 
 // Unwraps faces [f0, f1) of the topology, all between consecutive rings of `S` or fanning to its
 // pole, into one island per pair of consecutive seams; island_of[f − f0] tells each face's.
+// Places round a ring are counted in half columns: 2c is column c, 2c + 1 a fine ring's vertex
+// halfway to column c + 1.
 std::vector<IslandUv> unwrap_stack(const RingStack& S, const Vertices& rest, const std::vector<std::array<int, 3>>& faces,
                                    size_t f0, size_t f1, std::vector<int>& island_of) {
   const auto& R = *S.rings;
@@ -3036,18 +3149,29 @@ std::vector<IslandUv> unwrap_stack(const RingStack& S, const Vertices& rest, con
   const int parts = static_cast<int>(S.seams.size());
   auto first = [&](int p) { return S.seams[static_cast<size_t>(p)]; };
   auto length = [&](int p) { return parts == 1 ? n : (first((p + 1) % parts) - first(p) + n) % n; };
-  // u[p][r][k]: arc length around ring r from column a to column a + k (k = 0..len), centred.
+  // u[p][r][h]: arc length around ring r from column a to half column 2a + h (h = 0..2 len), centred.
   std::vector<std::vector<std::vector<double>>> u(static_cast<size_t>(parts));
   for (int p = 0; p < parts; ++p) {
     const int a = first(p), len = length(p);
-    u[static_cast<size_t>(p)].assign(static_cast<size_t>(nr), std::vector<double>(static_cast<size_t>(len + 1), 0.0));
+    u[static_cast<size_t>(p)].assign(static_cast<size_t>(nr), std::vector<double>(static_cast<size_t>(2 * len + 1), 0.0));
     for (int r = 0; r < nr; ++r) {
       auto& ur = u[static_cast<size_t>(p)][static_cast<size_t>(r)];
       const auto& Pr = P[static_cast<size_t>(r)];
-      for (int k = 1; k <= len; ++k)
-        ur[static_cast<size_t>(k)] = ur[static_cast<size_t>(k - 1)] +
-                                     (Pr[static_cast<size_t>((a + k) % n)] - Pr[static_cast<size_t>((a + k - 1) % n)]).norm();
-      const double half = 0.5 * ur[static_cast<size_t>(len)];
+      for (int k = 1; k <= len; ++k) {
+        const int c0 = (a + k - 1) % n;
+        const Vec3 &p0 = Pr[static_cast<size_t>(c0)], &p1 = Pr[static_cast<size_t>((a + k) % n)];
+        const auto h = static_cast<size_t>(2 * k);
+        if (const int mid = S.fine_at(r, c0); mid >= 0) {
+          const Vec3 m = rest.row(mid).transpose();
+          ur[h - 1] = ur[h - 2] + (m - p0).norm();
+          ur[h] = ur[h - 1] + (p1 - m).norm();
+        } else {
+          const double chord = (p1 - p0).norm();
+          ur[h - 1] = ur[h - 2] + 0.5 * chord;
+          ur[h] = ur[h - 2] + chord;
+        }
+      }
+      const double half = 0.5 * ur[static_cast<size_t>(2 * len)];
       for (double& x : ur) x -= half;
     }
   }
@@ -3058,10 +3182,12 @@ std::vector<IslandUv> unwrap_stack(const RingStack& S, const Vertices& rest, con
     pole_v += d / n;
   }
   const double sign = S.downward ? -1.0 : 1.0;
-  std::map<int, std::pair<int, int>> where;  // vertex → (ring, column)
+  std::map<int, std::pair<int, int>> where;  // vertex → (ring, half column)
   for (int r = 0; r < nr; ++r)
-    for (int c = 0; c < n; ++c)
-      if (at(r, c) >= 0) where[at(r, c)] = {r, c};
+    for (int c = 0; c < n; ++c) {
+      if (at(r, c) >= 0) where[at(r, c)] = {r, 2 * c};
+      if (const int mid = S.fine_at(r, c); mid >= 0) where[mid] = {r, 2 * c + 1};
+    }
   std::vector<IslandUv> out(static_cast<size_t>(parts));
   std::vector<std::map<std::pair<int, int>, int>> uv_index(static_cast<size_t>(parts));  // (ring, k) → uv; ring nr = the pole
   auto uv_of = [&](int p, int r, int k) {
@@ -3076,16 +3202,16 @@ std::vector<IslandUv> unwrap_stack(const RingStack& S, const Vertices& rest, con
   auto is_seam = [&](int c) { return std::find(S.seams.begin(), S.seams.end(), c) != S.seams.end(); };
   island_of.clear();
   for (size_t f = f0; f < f1; ++f) {
-    std::array<std::pair<int, int>, 3> rc{};  // (ring, column); ring nr = the pole
+    std::array<std::pair<int, int>, 3> rc{};  // (ring, half column); ring nr = the pole
     int part = -1;
     for (int i = 0; i < 3; ++i) {
       const int id = faces[f][static_cast<size_t>(i)];
       rc[static_cast<size_t>(i)] = id == S.pole ? std::pair<int, int>{nr, 0} : where.at(id);
-      const int c = rc[static_cast<size_t>(i)].second;
-      if (id == S.pole || is_seam(c)) continue;
+      const int h = rc[static_cast<size_t>(i)].second;
+      if (id == S.pole || (h % 2 == 0 && is_seam(h / 2))) continue;
       for (int p = 0; p < parts; ++p) {  // the island whose columns hold this corner
-        const int k = (c - first(p) + n) % n;
-        if (k > 0 && k < length(p)) part = p;
+        const int k = (h - 2 * first(p) + 2 * n) % (2 * n);
+        if (k > 0 && k < 2 * length(p)) part = p;
       }
     }
     if (part < 0) throw Error(ErrorKind::Format, "uv_layout: a face lies on seams only", "faces");  // not in this topology
@@ -3093,14 +3219,14 @@ std::vector<IslandUv> unwrap_stack(const RingStack& S, const Vertices& rest, con
     std::array<int, 3> k{};
     bool far = false;
     for (int i = 0; i < 3; ++i) {
-      k[static_cast<size_t>(i)] = (rc[static_cast<size_t>(i)].second - a + n) % n;
-      far = far || (rc[static_cast<size_t>(i)].first < nr && k[static_cast<size_t>(i)] > len / 2);
+      k[static_cast<size_t>(i)] = (rc[static_cast<size_t>(i)].second - 2 * a + 2 * n) % (2 * n);
+      far = far || (rc[static_cast<size_t>(i)].first < nr && k[static_cast<size_t>(i)] > len);
     }
     std::array<int, 3> corner{};
     for (int i = 0; i < 3; ++i) {
       const int r = rc[static_cast<size_t>(i)].first;
       int ki = r == nr ? 0 : k[static_cast<size_t>(i)];
-      if (r < nr && ki == 0 && far) ki = len;  // the island's closing seam
+      if (r < nr && ki == 0 && far) ki = 2 * len;  // the island's closing seam
       corner[static_cast<size_t>(i)] = uv_of(part, r, ki);
     }
     out[static_cast<size_t>(part)].corners.push_back(corner);
@@ -3156,7 +3282,7 @@ UvLayout uv_layout(const Vertices& rest) {
     RingStack S;
     int pair = 0;
     if (id == kIslandTorso) {
-      S = {&B.torso, {kTorsoN / 4, 3 * kTorsoN / 4}, B.head_pole, false};  // front and back, cut at the sides
+      S = {&B.torso, {kTorsoN / 4, 3 * kTorsoN / 4}, B.head_pole, false, &B};  // front and back, cut at the sides
     } else if (id == kIslandLeg || id == kIslandLeg + 1) {  // front and back, cut at the inseam and outseam
       S = {&B.leg[static_cast<size_t>(id - kIslandLeg)], {kLegLateral, kLegMedial}, -1, true};
       pair = 1;

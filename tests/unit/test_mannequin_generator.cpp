@@ -308,8 +308,8 @@ std::vector<std::string> relief_failures(const BodyModel& model, const Vertices&
 
 TEST(MannequinGenerator, TopologyIsClosedManifoldAndOriented) {
   const auto& topo = mq::topology();
-  EXPECT_GE(topo.vertex_count, 7000);
-  EXPECT_LE(topo.vertex_count, 15000);
+  EXPECT_GE(topo.vertex_count, 10000);
+  EXPECT_LE(topo.vertex_count, 25000);
   const MeshCheck c = check_mesh(topo.faces, topo.vertex_count);
   EXPECT_TRUE(c.closed);
   EXPECT_TRUE(c.manifold);
@@ -698,6 +698,50 @@ TEST(MannequinGenerator, NecksFrontLeansUpToTheJaw) {
     }
     ASSERT_GT(chin, neck + 3 * cm) << to_string(sex) << ": no chin in front of the neck";
     EXPECT_GE((at_c7 - neck) / (chin - neck), 0.08) << to_string(sex) << ", " << d.at("stature") << " m tall";
+  }
+}
+
+// The face around the eyes is drawn on a grid fine enough for the lids: within the box from 2
+// to 4.2 head-cm either side of the midline and 1.8 to 3.6 head-cm under the glabella (a head-cm
+// is 1/19.5 of the head's length), there are at least 120 triangles on each side, no edge is
+// longer than 0.5 head-cm, and the two eyes' triangles are mirror images of each other, so a
+// lid's margin running toward a corner is cut the same way on both. Before the face's fine
+// rings (2026-11-29) the box held about 50 (now 170–180), with edges up to 0.68 head-cm, and every
+// quad was cut along the same diagonal on both sides.
+TEST(MannequinGenerator, EyesHaveAFineSymmetricGrid) {
+  const Faces& f = mq::topology().faces;
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const double hu = 0.01 * d.at("headlength") / 0.195, y_g = v(mq::topology().landmarks.at("glabella"), 1);
+    const double z_mid = v(mq::topology().landmarks.at("opisthocranion"), 2);
+    auto in_box = [&](int i) {
+      const double ax = std::abs(v(i, 0)), below = (y_g - v(i, 1)) / hu;
+      return ax >= 2.0 * hu && ax <= 4.2 * hu && below >= 1.8 && below <= 3.6 && v(i, 2) > z_mid + 0.1;
+    };
+    std::map<std::array<double, 3>, int> at;  // vertex by position, to find each one's mirror image
+    for (Eigen::Index i = 0; i < v.rows(); ++i) at[{v(i, 0), v(i, 1), v(i, 2)}] = static_cast<int>(i);
+    std::set<std::array<int, 3>> left, right_mirrored;
+    double longest = 0;
+    for (Eigen::Index r = 0; r < f.rows(); ++r) {
+      if (!in_box(f(r, 0)) || !in_box(f(r, 1)) || !in_box(f(r, 2))) continue;
+      for (int c = 0; c < 3; ++c) longest = std::max(longest, (v.row(f(r, c)) - v.row(f(r, (c + 1) % 3))).norm());
+      std::array<int, 3> t{f(r, 0), f(r, 1), f(r, 2)};
+      if (v(t[0], 0) > 0) {
+        std::sort(t.begin(), t.end());
+        left.insert(t);
+        continue;
+      }
+      for (int& id : t) {
+        const auto m = at.find({-v(id, 0), v(id, 1), v(id, 2)});
+        id = m == at.end() ? -1 : m->second;
+      }
+      std::sort(t.begin(), t.end());
+      right_mirrored.insert(t);
+    }
+    const std::string who = std::string(to_string(sex)) + ", " + std::to_string(d.at("stature")) + " m tall";
+    EXPECT_GE(left.size(), 120u) << who;
+    EXPECT_LE(longest, 0.5 * hu) << who;
+    EXPECT_EQ(left, right_mirrored) << who;
   }
 }
 
