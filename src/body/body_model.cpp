@@ -218,7 +218,7 @@ Vertices BodyModel::rest_vertices(const Eigen::VectorXd& beta) const {
   return v;
 }
 
-Eigen::RowVectorXd BodyModel::shape_gradient(const Eigen::VectorXd& vertex_gradient) const {
+Eigen::RowVectorXd BodyModel::shape_gradient(const Eigen::Ref<const Eigen::VectorXd>& vertex_gradient) const {
   if (vertex_gradient.size() != shape_directions_f_.rows())
     throw Error(ErrorKind::InvalidArgument, "vertex gradient size does not match the model", "vertex_gradient");
   return (vertex_gradient.cast<float>().transpose() * shape_directions_f_).cast<double>();

@@ -675,6 +675,14 @@ struct Builder {
 
 Vec3 mirror(const Vec3& p) { return {-p.x(), p.y(), p.z()}; }
 
+// fn(k, j, id, mirror_id) for each halfway vertex of the fine rings on the left half (between
+// columns j and j + 1 of ring k) and its mirror image on the right.
+template <class Fn>
+void for_each_fine(const Builder& B, Fn fn) {
+  for (int k = fine_first(); k <= fine_last(); ++k)
+    for (int j = 0; j < kFineColumns; ++j) fn(k, j, B.fine_at(k, j), B.fine_at(k, kTorsoN - 1 - j));
+}
+
 // Each vertex's one-ring: the vertices it shares an edge with.
 std::vector<std::set<int>> one_rings(const Builder& B) {
   std::vector<std::set<int>> ring(B.v.size());
@@ -1684,6 +1692,9 @@ void build(const BodyPlan& P, Builder& B) {
   for (int k = 0; k < nt; ++k)
     for (int j = 0; j < kTorsoN; ++j)
       if (!in_hole(k, j, kax)) B.torso[static_cast<size_t>(k)][static_cast<size_t>(j)] = torso_vertex(k, j);
+  // The fine rings' halfway vertices, here on the ring's curve: place_fine() moves them to their
+  // chords once the columns are re-spaced (the topology-only builds, for the skin weights and
+  // the UVs' ring structure, keep this place, a tenth of a millimetre off).
   B.fine.assign(static_cast<size_t>(fine_last() - fine_first() + 1), std::vector<int>(kTorsoN, -1));
   for (int k = fine_first(); k <= fine_last(); ++k)
     for (int j = 0; j < kTorsoN; ++j)
@@ -2256,7 +2267,8 @@ struct Fairing {
 };
 constexpr int kFoldFillIterations = 40, kFoldFillFade = 6;
 constexpr int kFairChinRingsAbove = 2, kFairChinColumns = 14;  // the jaw's fairing (make_fairing())
-// The faired rings' neighbours (one ring higher) must not touch the fine rings' vertices.
+// No faired vertex may have a halfway vertex of the fine rings in its one-ring: the fine rings'
+// first transition triangles reach down one ring under them.
 static_assert(kFineAboveChin >= kFairChinRingsAbove + 2);
 
 // Each vertex's distance in edges from the nearest of `from[i]` where `among[i]` holds
@@ -2454,13 +2466,17 @@ struct Grid {
   int columns() const { return static_cast<int>((*ids)[0].size()); }
 };
 
+// The outward horizontal normal of a ring running along t (its columns' order), or 0.
+Vec3 outward_across(const Vec3& t) {
+  const Vec3 n(-t.z(), 0, t.x());
+  return n.norm() > 1e-12 ? Vec3(n / n.norm()) : Vec3(0, 0, 0);
+}
+
 // The ring's outward horizontal normal at (r, c), from the neighbouring columns.
 Vec3 ring_normal(const Grid& g, const std::vector<Vec3>& v, int r, int c) {
   const int a = g.id(r, c - 1), b = g.id(r, c + 1), m = g.id(r, c);
   const Vec3 pa = v[static_cast<size_t>(a >= 0 ? a : m)], pb = v[static_cast<size_t>(b >= 0 ? b : m)];
-  const Vec3 t = pb - pa;
-  const Vec3 n(-t.z(), 0, t.x());
-  return n.norm() > 1e-12 ? Vec3(n / n.norm()) : Vec3(0, 0, 0);
+  return outward_across(pb - pa);
 }
 
 // Vertices on a horizontal plane y = ys or on a grid edge that crosses it (their motion moves
@@ -2541,13 +2557,12 @@ double face_height(double X, double Y) {
     const double dy = Y + 2.35;
     f -= 0.55 * blob(X - 3.1, dy, 1.9, dy < 0 ? 0.9 : 1.35);
   }
-  // The eye, about 3 cm from corner to corner: a blob is flat only over about half its
-  // radius, so the eye and its lids' line reach 1.75 out (an opening of radius 1.25 read as
-  // a slit).
+  // The eyeball under the lids, about 3.5 head-cm across (a blob is flat only over about half
+  // its radius); the opening between the lids is eye_opening()'s, 2.9 head-cm wide.
   f += 0.42 * blob(X - 3.1, Y + 2.7, 1.75, 0.95);  // the eyeball, under the lids
   // The opening between the lids, the eye behind their margins, and the cornea's bulge. On the
   // face's fine rings the margins are crisp lines round an almond; before those (until
-  // 2026-11-29) the grid was 4–6 mm across and 2.5 mm high, and blobs drew a slit.
+  // 2026-11-29) the grid was about 4 mm across and 2.5 mm high, and blobs drew a slit.
   f -= (kEyeRecess - 0.04 * blob(X - kEyeX, Y - kEyeY, 0.9, 0.6)) * eye_opening(X, Y);
   f -= 0.12 * blob(X - 3.0, Y + 2.0, 1.7, 0.45);   // the upper lid's crease
   f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
@@ -2706,12 +2721,11 @@ void respace_torso_columns(Builder& B, const std::set<int>& pinned, const HeadFr
 // ones over them by a tenth of a millimetre, and the temples showed a line along the glabella
 // ring.) Left half; the right is its mirror.
 void place_fine(Builder& B) {
-  for (int k = fine_first(); k <= fine_last(); ++k)
-    for (int j = 0; j < kFineColumns; ++j) {
-      const Vec3 p = 0.5 * (B.v[static_cast<size_t>(B.torso_at(k, j))] + B.v[static_cast<size_t>(B.torso_at(k, j + 1))]);
-      B.v[static_cast<size_t>(B.fine_at(k, j))] = p;
-      B.v[static_cast<size_t>(B.fine_at(k, kTorsoN - 1 - j))] = mirror(p);
-    }
+  for_each_fine(B, [&](int k, int j, int id, int mirror_id) {
+    const Vec3 p = 0.5 * (B.v[static_cast<size_t>(B.torso_at(k, j))] + B.v[static_cast<size_t>(B.torso_at(k, j + 1))]);
+    B.v[static_cast<size_t>(id)] = p;
+    B.v[static_cast<size_t>(mirror_id)] = mirror(p);
+  });
 }
 
 // The groin, filled outside its fold. Where the belly's lowest rings hug the thighs they fell up
@@ -2924,13 +2938,10 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       D[static_cast<size_t>(id)] = torso_relief(v0[static_cast<size_t>(id)], k, j);
     }
   // The fine rings' halfway vertices, each moved along its chord's outward normal.
-  for (int k = fine_first(); k <= fine_last(); ++k)
-    for (int j = 0; j < kFineColumns; ++j) {
-      const int id = B.fine_at(k, j);
-      const Vec3 chord = v0[static_cast<size_t>(T.id(k, j + 1))] - v0[static_cast<size_t>(T.id(k, j))];
-      N[static_cast<size_t>(id)] = Vec3(-chord.z(), 0, chord.x()).normalized();
-      D[static_cast<size_t>(id)] = torso_relief(v0[static_cast<size_t>(id)], k, j + 0.5);
-    }
+  for_each_fine(B, [&](int k, int j, int id, int) {
+    N[static_cast<size_t>(id)] = outward_across(v0[static_cast<size_t>(T.id(k, j + 1))] - v0[static_cast<size_t>(T.id(k, j))]);
+    D[static_cast<size_t>(id)] = torso_relief(v0[static_cast<size_t>(id)], k, j + 0.5);
+  });
   // The spine groove and the erector muscles beside it, ring by ring (see the section comment).
   for (int k = 0; k < nt; ++k) {
     const double yk = P.torso[static_cast<size_t>(k)].y;
@@ -3029,12 +3040,12 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   for (const char* name : {"neck_front", "glabella"}) mark_section(T, v0, ly(name), 0, nt - 1, girth_only);
   for (const char* name : {"thigh_left", "lower_thigh_left", "calf_left", "ankle_left"})
     mark_section(L, v0, ly(name), 1, L.rings() - 1, girth_only);
-  for (int k = fine_first(); k <= fine_last(); ++k)  // a halfway vertex as its columns
-    for (int j = 0; j < kFineColumns; ++j)
-      for (auto* marks : {&on, &girth_only}) {
-        auto& m = *marks;
-        m[static_cast<size_t>(B.fine_at(k, j))] = m[static_cast<size_t>(T.id(k, j))] || m[static_cast<size_t>(T.id(k, j + 1))];
-      }
+  for_each_fine(B, [&](int k, int j, int id, int) {  // a halfway vertex as its columns
+    for (auto* marks : {&on, &girth_only}) {
+      auto& m = *marks;
+      m[static_cast<size_t>(id)] = m[static_cast<size_t>(T.id(k, j))] || m[static_cast<size_t>(T.id(k, j + 1))];
+    }
+  });
   for (size_t i = 0; i < v.size(); ++i)
     D[i] = girth_only[i] ? 0.0 : (on[i] ? std::min(D[i], 0.0) : D[i]) + ridge[i];
   const std::set<std::string> height_only = {"chest_front", "neck_front", "knee_left", "knee_right",
@@ -3051,12 +3062,10 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       if (j == 0 || j == kTorsoN / 2) v[static_cast<size_t>(id)].x() = 0;
       else v[static_cast<size_t>(T.id(k, kTorsoN - j))] = mirror(v[static_cast<size_t>(id)]);
     }
-  for (int k = fine_first(); k <= fine_last(); ++k)
-    for (int j = 0; j < kFineColumns; ++j) {
-      const int id = B.fine_at(k, j);
-      v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
-      v[static_cast<size_t>(B.fine_at(k, kTorsoN - 1 - j))] = mirror(v[static_cast<size_t>(id)]);
-    }
+  for_each_fine(B, [&](int, int, int id, int mirror_id) {
+    v[static_cast<size_t>(id)] = v0[static_cast<size_t>(id)] + D[static_cast<size_t>(id)] * N[static_cast<size_t>(id)];
+    v[static_cast<size_t>(mirror_id)] = mirror(v[static_cast<size_t>(id)]);
+  });
   // A limb: its left side moved, the right side its mirror (ids −1: a toe's or the thumb's hole).
   auto apply_limb = [&](const Grid& left, const std::vector<std::vector<int>>& right) {
     for (int r = 1; r < left.rings(); ++r)

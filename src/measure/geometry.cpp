@@ -8,21 +8,46 @@
 
 namespace caliper {
 
-double signed_volume(const Vertices& vertices, const Faces& faces) {
-  // Each face with the origin forms a tetrahedron; outward faces sum to the enclosed volume.
-  // Raw row-major storage: this loop runs for every corner body of the regressors (§3.4.3).
+namespace {
+// out += x × y
+void add_cross(double* out, const double* x, const double* y) {
+  out[0] += x[1] * y[2] - x[2] * y[1];
+  out[1] += x[2] * y[0] - x[0] * y[2];
+  out[2] += x[0] * y[1] - x[1] * y[0];
+}
+// Six times the signed volume: each face with the origin forms a tetrahedron, and outward faces
+// sum to the enclosed volume. With kGradient, also adds each face's b × c, c × a, a × b to
+// `gradient` at a, b, c (six times ∂V/∂v). Raw row-major storage: this loop runs for every
+// corner body of the regressors (§3.4.3) and every step of the estimator.
+template <bool kGradient>
+double six_volume(const Vertices& vertices, const Faces& faces, double* gradient) {
   const double* v = vertices.data();
   const std::int32_t* f = faces.data();
-  const Eigen::Index count = faces.rows();
-  double six_volume = 0;
-  for (Eigen::Index i = 0; i < count; ++i, f += 3) {
+  double sum = 0;
+  for (Eigen::Index i = 0; i < faces.rows(); ++i, f += 3) {
     const double* a = v + 3 * f[0];
     const double* b = v + 3 * f[1];
     const double* c = v + 3 * f[2];
-    six_volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                  a[2] * (b[0] * c[1] - b[1] * c[0]);
+    sum += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    if constexpr (kGradient) {
+      add_cross(gradient + 3 * f[0], b, c);
+      add_cross(gradient + 3 * f[1], c, a);
+      add_cross(gradient + 3 * f[2], a, b);
+    }
   }
-  return six_volume / 6.0;
+  return sum;
+}
+}  // namespace
+
+double signed_volume(const Vertices& vertices, const Faces& faces) {
+  return six_volume<false>(vertices, faces, nullptr) / 6.0;
+}
+
+double signed_volume(const Vertices& vertices, const Faces& faces, Eigen::VectorXd& gradient) {
+  gradient.setZero(vertices.size());
+  const double six = six_volume<true>(vertices, faces, gradient.data());
+  gradient /= 6.0;
+  return six / 6.0;
 }
 
 std::vector<std::vector<SectionPoint>> plane_section_points(const Vertices& vertices, const Faces& faces,

@@ -160,30 +160,9 @@ double measure_with(const BodyModel& model, const MeasurementDefinition& def, co
     case MeasurementKind::Weight: {
       const auto& c = model.data().weight_from_volume;
       if (!dense) return c.a * signed_volume(rest, model.faces()) + c.b;
-      // ∂V/∂v sums (b × c)/6 over the faces at v, cyclically; the volume in the same pass, summed
-      // as signed_volume() sums it (raw row-major storage: this runs at every step of the
-      // estimator, over every face).
-      const Faces& faces = model.faces();
-      dense->setZero(rest.size());
-      double* g = dense->data();
-      const double* v = rest.data();
-      const std::int32_t* f = faces.data();
-      double six_volume = 0;
-      for (Eigen::Index i = 0; i < faces.rows(); ++i, f += 3) {
-        const double *a = v + 3 * f[0], *b = v + 3 * f[1], *cc = v + 3 * f[2];
-        six_volume += a[0] * (b[1] * cc[2] - b[2] * cc[1]) - a[1] * (b[0] * cc[2] - b[2] * cc[0]) +
-                      a[2] * (b[0] * cc[1] - b[1] * cc[0]);
-        auto add_cross = [](double* out, const double* x, const double* y) {
-          out[0] += x[1] * y[2] - x[2] * y[1];
-          out[1] += x[2] * y[0] - x[0] * y[2];
-          out[2] += x[0] * y[1] - x[1] * y[0];
-        };
-        add_cross(g + 3 * f[0], b, cc);
-        add_cross(g + 3 * f[1], cc, a);
-        add_cross(g + 3 * f[2], a, b);
-      }
-      *dense *= c.a / 6;
-      return c.a * (six_volume / 6.0) + c.b;
+      const double volume = signed_volume(rest, model.faces(), *dense);
+      *dense *= c.a;
+      return c.a * volume + c.b;
     }
   }
   return 0;

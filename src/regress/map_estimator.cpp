@@ -85,8 +85,9 @@ const MapEstimator::Linearisation& MapEstimator::at_mean() const {
 namespace {
 
 // J = ∂m/∂β (|which| × K) at rest vertices T(β); sets `base` = m(β). Vertices are linear in β
-// (T(β) = T̄ + Sβ), so each row is the measurement's gradient in the vertices times S: exact,
-// and one measuring per measurement instead of K + 1 for finite differences.
+// (T(β) = T̄ + Sβ), so each row is the measurement's gradient in the vertices times S: exact
+// (the weight's, over every vertex, in single precision: BodyModel::shape_gradient), and one
+// measuring per measurement instead of K + 1 for finite differences.
 Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const Vertices& rest, const std::vector<std::string>& which,
                                      Eigen::VectorXd& base) {
   const int k = model.shape_count();

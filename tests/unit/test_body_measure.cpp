@@ -18,8 +18,9 @@ TEST(BodyModel, RestVerticesAreTemplatePlusDirections) {
   EXPECT_NEAR(m.rest_vertices(Eigen::VectorXd())(top, 1), 1.7, 1e-12);  // shorter β = zeros
 }
 
-// gᵀS is how a function of the vertices changes with β: moving only the top vertex up by β₀
-// raises it 0.10 per unit, so the gradient of its height is (0.10, 0).
+// gᵀS is how a function of the vertices changes with β: the toy model's top vertex rises 0.10
+// per unit of β₀, not at all with β₁ and 0.05 with β₂ (fixtures.h), so the gradient of its
+// height is (0.10, 0, 0.05).
 TEST(BodyModel, ShapeGradientIsTheVertexGradientThroughTheDirections) {
   const BodyModel m = test::toy_model();
   Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * m.vertex_count());
@@ -27,6 +28,8 @@ TEST(BodyModel, ShapeGradientIsTheVertexGradientThroughTheDirections) {
   const Eigen::RowVectorXd along = m.shape_gradient(g);
   ASSERT_EQ(along.size(), m.shape_count());
   EXPECT_NEAR(along(0), 0.10, 1e-7);
+  EXPECT_NEAR(along(1), 0.0, 1e-7);
+  EXPECT_NEAR(along(2), 0.05, 1e-7);
   // Against the double-precision product on a dense gradient.
   const Eigen::VectorXd dense = Eigen::VectorXd::LinSpaced(3 * m.vertex_count(), -1.0, 1.0);
   const Eigen::RowVectorXd exact = dense.transpose() * m.data().shape_directions;

@@ -705,7 +705,8 @@ TEST(MannequinGenerator, NecksFrontLeansUpToTheJaw) {
 // to 4.2 head-cm either side of the midline and 1.8 to 3.6 head-cm under the glabella (a head-cm
 // is 1/19.5 of the head's length), there are at least 120 triangles on each side, no edge is
 // longer than 0.5 head-cm, and the two eyes' triangles are mirror images of each other, so a
-// lid's margin running toward a corner is cut the same way on both. Before the face's fine
+// lid's margin slanting across the grid is cut the same way on both. (The box stops short of the
+// eyes' corners, 1.65 and 4.55 head-cm out, where the face's columns widen toward the side.) Before the face's fine
 // rings (2026-11-29) the box held about 50 (now 170–180), with edges up to 0.68 head-cm, and every
 // quad was cut along the same diagonal on both sides.
 TEST(MannequinGenerator, EyesHaveAFineSymmetricGrid) {
@@ -713,10 +714,11 @@ TEST(MannequinGenerator, EyesHaveAFineSymmetricGrid) {
   for (const auto& [d, sex] : sample_bodies()) {
     const Vertices v = mq::generate(d, sex);
     const double hu = 0.01 * d.at("headlength") / 0.195, y_g = v(mq::topology().landmarks.at("glabella"), 1);
-    const double z_mid = v(mq::topology().landmarks.at("opisthocranion"), 2);
+    // The face's side of the head: more than 10 head-cm in front of its back.
+    const double z_face = v(mq::topology().landmarks.at("opisthocranion"), 2) + 10 * hu;
     auto in_box = [&](int i) {
       const double ax = std::abs(v(i, 0)), below = (y_g - v(i, 1)) / hu;
-      return ax >= 2.0 * hu && ax <= 4.2 * hu && below >= 1.8 && below <= 3.6 && v(i, 2) > z_mid + 0.1;
+      return ax >= 2.0 * hu && ax <= 4.2 * hu && below >= 1.8 && below <= 3.6 && v(i, 2) > z_face;
     };
     std::map<std::array<double, 3>, int> at;  // vertex by position, to find each one's mirror image
     for (Eigen::Index i = 0; i < v.rows(); ++i) at[{v(i, 0), v(i, 1), v(i, 2)}] = static_cast<int>(i);

@@ -97,8 +97,9 @@ class BodyModel {
   Vertices rest_vertices(const Eigen::VectorXd& beta) const;
   void rest_vertices(const Eigen::VectorXd& beta, Vertices& out) const;  // no allocation when sized
   // gᵀS (1×K): how a function of the rest vertices changes with β, given its gradient g in the
-  // vertices (3N, x y z per vertex). In single precision, as rest_vertices (error ~1e-7 relative).
-  Eigen::RowVectorXd shape_gradient(const Eigen::VectorXd& vertex_gradient) const;
+  // vertices (3N, x y z per vertex). In single precision, as rest_vertices: each entry's error is
+  // about 1e-7 of Σᵢ |gᵢ Sᵢₖ|, not of the entry itself.
+  Eigen::RowVectorXd shape_gradient(const Eigen::Ref<const Eigen::VectorXd>& vertex_gradient) const;
   // Joints J(β), J×3, from rest vertices.
   Eigen::MatrixX3d joints(const Vertices& rest) const;
 

@@ -10,6 +10,9 @@ namespace caliper {
 
 // Signed volume of a closed, outward-oriented mesh: Σ over faces of (a · (b × c)) / 6.  m³.
 double signed_volume(const Vertices& vertices, const Faces& faces);
+// The same, and its gradient in the vertices (3N, x y z per vertex): a face adds (b × c)/6 to
+// ∂V/∂a, and cyclically. One pass over the faces (the estimator runs it at every step).
+double signed_volume(const Vertices& vertices, const Faces& faces, Eigen::VectorXd& gradient);
 
 // Where a plane crosses the mesh edge (a, b): q = v_a + t·(v_b − v_a). Keeping the edge lets a
 // measurement on the section be differentiated with respect to the vertices (map_estimator).
