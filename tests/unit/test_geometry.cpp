@@ -30,6 +30,22 @@ TEST(Geometry, PrismVolumeIsAreaTimesHeight) {
   EXPECT_NEAR(signed_volume(p.vertices, p.faces), area * h, 1e-12);
 }
 
+// The volume's gradient in the vertices, against central differences on a prism (the volume
+// is cubic in each vertex's coordinates, so a central difference is exact up to rounding).
+TEST(Geometry, VolumeGradientMatchesDifferences) {
+  const auto p = test::prism(7, 3, 0.3, 1.2);
+  Eigen::VectorXd g;
+  EXPECT_NEAR(signed_volume(p.vertices, p.faces, g), signed_volume(p.vertices, p.faces), 1e-15);
+  ASSERT_EQ(g.size(), p.vertices.size());
+  const double h = 1e-5;
+  for (Eigen::Index i = 0; i < g.size(); ++i) {
+    Vertices up = p.vertices, down = p.vertices;
+    up(i / 3, i % 3) += h;
+    down(i / 3, i % 3) -= h;
+    EXPECT_NEAR(g(i), (signed_volume(up, p.faces) - signed_volume(down, p.faces)) / (2 * h), 1e-9) << "coordinate " << i;
+  }
+}
+
 TEST(Geometry, CubeIsClosedManifoldAndOriented) {
   const Mesh cube = test::unit_cube();
   const MeshCheck c = check_mesh(cube.faces, 8);
