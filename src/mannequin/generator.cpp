@@ -2555,11 +2555,11 @@ double face_height(double X, double Y) {
   // bright one across the cheekbones: a face in stripes).
   {
     const double dy = Y + 2.35;
-    f -= 0.55 * blob(X - 3.1, dy, 1.9, dy < 0 ? 0.9 : 1.35);
+    f -= 0.55 * blob(X - kEyeX, dy, 1.9, dy < 0 ? 0.9 : 1.35);
   }
   // The eyeball under the lids, about 3.5 head-cm across (a blob is flat only over about half
   // its radius); the opening between the lids is eye_opening()'s, 2.9 head-cm wide.
-  f += 0.42 * blob(X - 3.1, Y + 2.7, 1.75, 0.95);  // the eyeball, under the lids
+  f += 0.42 * blob(X - kEyeX, Y + 2.7, 1.75, 0.95);  // the eyeball, under the lids
   // The opening between the lids, the eye behind their margins, and the cornea's bulge. On the
   // face's fine rings the margins are crisp lines round an almond; before those (until
   // 2026-11-29) the grid was about 4 mm across and 2.5 mm high, and blobs drew a slit.
@@ -3116,8 +3116,8 @@ struct RingStack {
   std::vector<int> seams;  // the columns cut open, increasing; one island between each two
   int pole = -1;           // the vertex closing the last ring, or −1
   bool downward = false;   // v decreases along the stack (legs and arms: feet and hands down)
-  const Builder* fine = nullptr;  // the torso: its fine rings' halfway vertices (Builder::fine)
-  int fine_at(int r, int c) const { return fine ? fine->fine_at(r, c) : -1; }
+  const Builder* halfway_of = nullptr;  // the torso's builder: its fine rings' halfway vertices (Builder::fine)
+  int fine_at(int r, int c) const { return halfway_of ? halfway_of->fine_at(r, c) : -1; }
 };
 
 struct IslandUv {
