@@ -1,6 +1,6 @@
 // Speed of the core pipeline on the built-in body (docs/performance.md):
 //   rest vertices for a β, training the four presets, measurements → .glb bytes, the map estimator,
-//   measuring, volume and a section, the self-intersection check.
+//   measuring, volume and a section, the volume polynomial, the self-intersection check.
 #include <benchmark/benchmark.h>
 
 #include "caliper/caliper.h"
@@ -69,6 +69,7 @@ void BM_MapEstimate(benchmark::State& state) {
   req.noise = state.range(1) != 0 ? "self" : "exact";
   req.measure_avatar = state.range(0) != 0;
   req.vertex_uncertainty = state.range(0) != 0;
+  builder.build(req);  // what is worked out once per model (the server keeps its builders)
   int inputs = 0;
   for (auto _ : state) {
     const Avatar a = builder.build(req);
@@ -102,6 +103,23 @@ void BM_VolumeAndSection(benchmark::State& state) {
   state.SetLabel(state.range(0) ? "hip_breadth section" : "volume");
 }
 BENCHMARK(BM_VolumeAndSection)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The volume as a cubic in β (VolumePolynomial): worked out once per model, on the estimator's
+// first use; then each evaluation with its gradient, as every estimator step takes it.
+void BM_VolumePolynomial(benchmark::State& state) {
+  const auto model = female_model();
+  if (state.range(0) == 0) {
+    for (auto _ : state) benchmark::DoNotOptimize(VolumePolynomial(*model).shape_count());
+    state.SetLabel("built");
+    return;
+  }
+  const VolumePolynomial poly(*model);
+  const Eigen::VectorXd beta = Eigen::VectorXd::LinSpaced(model->shape_count(), -1.0, 1.0);
+  Eigen::RowVectorXd gradient;
+  for (auto _ : state) benchmark::DoNotOptimize(poly.value(beta, &gradient));
+  state.SetLabel("value and gradient");
+}
+BENCHMARK(BM_VolumePolynomial)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // The self-intersection check the tests run on every generated and posed body.
 void BM_SelfIntersections(benchmark::State& state) {

@@ -3,6 +3,7 @@
 #include "caliper/errors.h"
 #include "caliper/body/mesh.h"
 #include "caliper/body/body_model.h"
+#include "caliper/body/volume_polynomial.h"
 #include "caliper/body/pose.h"
 #include "caliper/io/model_files.h"
 #include "caliper/vocabulary/catalogue.h"

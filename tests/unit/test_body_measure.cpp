@@ -37,6 +37,36 @@ TEST(BodyModel, ShapeGradientIsTheVertexGradientThroughTheDirections) {
   EXPECT_THROW(m.shape_gradient(Eigen::VectorXd::Zero(4)), Error);
 }
 
+// The toy prism's directions are linear maps: β scales its height by 1 + (0.10 β₀ + 0.05 β₂)/1.7
+// and its radius by 1 + (0.02 β₁ − 0.01 β₂)/0.15 (fixtures.h), so its volume is V(0) times the
+// height's factor times the radius's squared: a cubic with every degree and cross term.
+TEST(VolumePolynomial, IsTheToyPrismsVolumeExactly) {
+  const BodyModel m = test::toy_model();
+  const VolumePolynomial poly(m);
+  ASSERT_EQ(poly.shape_count(), 3);
+  const double v0 = signed_volume(m.data().template_vertices, m.faces());
+  ASSERT_GT(v0, 0);
+  auto expected = [&](const Eigen::Vector3d& b, Eigen::RowVector3d& gradient) {
+    const double h = 1 + (0.10 * b(0) + 0.05 * b(2)) / 1.7, r = 1 + (0.02 * b(1) - 0.01 * b(2)) / 0.15;
+    const Eigen::RowVector3d dh(0.10 / 1.7, 0, 0.05 / 1.7), dr(0, 0.02 / 0.15, -0.01 / 0.15);
+    gradient = v0 * (dh * r * r + 2 * h * r * dr);
+    return v0 * h * r * r;
+  };
+  for (const Eigen::Vector3d& b : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, -2, 0),
+                                  Eigen::Vector3d(0, 0, 3), Eigen::Vector3d(2.5, -1.5, 3.0), Eigen::Vector3d(-3, 3, -2)}) {
+    Eigen::RowVector3d want_gradient;
+    const double want = expected(b, want_gradient);
+    Eigen::RowVectorXd gradient;
+    EXPECT_NEAR(poly.value(b, &gradient), want, 1e-12 * v0) << b.transpose();
+    ASSERT_EQ(gradient.size(), 3);
+    EXPECT_LT((gradient - want_gradient).cwiseAbs().maxCoeff(), 1e-12 * v0) << b.transpose();
+  }
+  Eigen::RowVector3d unused;
+  EXPECT_NEAR(poly.value(Eigen::VectorXd::Constant(1, 2.0)), expected(Eigen::Vector3d(2, 0, 0), unused), 1e-12 * v0);
+  EXPECT_THROW(poly.value(Eigen::VectorXd::Zero(4)), Error);
+  EXPECT_THROW(poly.value(Eigen::VectorXd::Constant(2, std::nan(""))), Error);
+}
+
 TEST(BodyModel, RejectsBadBeta) {
   const BodyModel m = test::toy_model();
   EXPECT_THROW(m.rest_vertices(Eigen::VectorXd::Zero(4)), Error);
