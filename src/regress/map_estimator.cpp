@@ -70,26 +70,57 @@ MapEstimator::MapEstimator(std::shared_ptr<const BodyModel> model) : model_(std:
 
 // Defined below, with the other helpers.
 namespace {
-Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const Vertices& rest, const std::vector<std::string>& which,
-                                     Eigen::VectorXd& base);
+Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const VolumePolynomial& volume, const Eigen::VectorXd& beta,
+                                     const Vertices& rest, const std::vector<std::string>& which, Eigen::VectorXd& base);
+}
+
+const VolumePolynomial& MapEstimator::volume() const {
+  std::call_once(volume_once_, [this] { volume_ = std::make_unique<VolumePolynomial>(*model_); });
+  return *volume_;
 }
 
 const MapEstimator::Linearisation& MapEstimator::at_mean() const {
   std::call_once(mean_once_, [this] {
-    const Vertices rest = model_->rest_vertices(Eigen::VectorXd::Zero(model_->shape_count()));
-    mean_.j0 = measurement_jacobian(*model_, rest, all_measurements_, mean_.m0);
+    const Eigen::VectorXd mean = Eigen::VectorXd::Zero(model_->shape_count());
+    const Vertices rest = model_->rest_vertices(mean);
+    mean_.j0 = measurement_jacobian(*model_, volume(), mean, rest, all_measurements_, mean_.m0);
   });
   return mean_;
 }
 
 namespace {
 
-// J = ∂m/∂β (|which| × K) at rest vertices T(β); sets `base` = m(β). Vertices are linear in β
-// (T(β) = T̄ + Sβ), so each row is the measurement's gradient in the vertices times S: exact
-// (the weight's, over every vertex, in single precision: BodyModel::shape_gradient), and one
-// measuring per measurement instead of K + 1 for finite differences.
-Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const Vertices& rest, const std::vector<std::string>& which,
-                                     Eigen::VectorXd& base) {
+// The weight of the body of β, weight_kg = a·V(β) + b (paper §3.4.2), from the volume polynomial
+// rather than a pass over every face; sets `gradient` to ∂weight/∂β if given.
+double weight_at(const BodyModel& model, const VolumePolynomial& volume, const Eigen::VectorXd& beta,
+                 Eigen::RowVectorXd* gradient) {
+  const WeightFromVolume& c = model.data().weight_from_volume;
+  const double v = volume.value(beta, gradient);
+  if (gradient) *gradient *= c.a;
+  return c.a * v + c.b;
+}
+
+// `which` measured on the body of β (SI, weight in kg), in the order of `which`: the weight from
+// the volume polynomial, the rest on its rest vertices `rest` = T(β).
+Eigen::VectorXd measure_values(const BodyModel& model, const VolumePolynomial& volume, const Eigen::VectorXd& beta,
+                               const Vertices& rest, const std::vector<std::string>& which) {
+  auto is_weight = [&](const std::string& name) { return model.find_measurement(name)->kind == MeasurementKind::Weight; };
+  std::vector<std::string> on_mesh;
+  for (const auto& name : which)
+    if (!is_weight(name)) on_mesh.push_back(name);
+  const auto measured = measure_some(model, on_mesh, rest);
+  Eigen::VectorXd out(static_cast<Eigen::Index>(which.size()));
+  for (size_t i = 0; i < which.size(); ++i)
+    out(static_cast<Eigen::Index>(i)) = is_weight(which[i]) ? weight_at(model, volume, beta, nullptr) : measured.at(which[i]);
+  return out;
+}
+
+// J = ∂m/∂β (|which| × K) at β, whose rest vertices are `rest`; sets `base` = m(β). Vertices are
+// linear in β (T(β) = T̄ + Sβ), so each row is the measurement's gradient in the vertices times S:
+// exact, and one measuring per measurement instead of K + 1 for finite differences. The weight's
+// row is the volume polynomial's gradient.
+Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const VolumePolynomial& volume, const Eigen::VectorXd& beta,
+                                     const Vertices& rest, const std::vector<std::string>& which, Eigen::VectorXd& base) {
   const int k = model.shape_count();
   const auto m = static_cast<Eigen::Index>(which.size());
   const Eigen::MatrixXd& directions = model.data().shape_directions;
@@ -97,9 +128,14 @@ Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const Vertices& res
   Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(m, k);
   for (Eigen::Index i = 0; i < m; ++i) {
     const MeasurementDefinition& def = *model.find_measurement(which[static_cast<size_t>(i)]);
+    if (def.kind == MeasurementKind::Weight) {
+      Eigen::RowVectorXd gradient;
+      base(i) = weight_at(model, volume, beta, &gradient);
+      jac.row(i) = gradient;
+      continue;
+    }
     const MeasurementGradient g = measure_with_gradient(model, def, rest, model.faces());
     base(i) = g.value;
-    if (g.dense.size()) jac.row(i) = model.shape_gradient(g.dense);  // the weight: every vertex
     for (const GradientTerm& term : g.terms)
       jac.row(i).noalias() += term.d.transpose() * directions.middleRows(3 * static_cast<Eigen::Index>(term.vertex), 3);
   }
@@ -293,25 +329,29 @@ MapEstimate MapEstimator::solve(const std::map<std::string, double>& values, con
   const Eigen::Index n = y.size();
   const Eigen::VectorXd w_nominal = sd.array().square().inverse().matrix();  // diag(σ⁻²)
   Eigen::VectorXd w = w_nominal;  // effective weights (the gross-error stage lowers an outlier's)
+  // The rest vertices of the β last asked for: a step's Jacobian is taken at the trial just
+  // accepted, whose vertices are still here (each T(β) is a pass over every vertex).
   Vertices rest;
-
-  auto measure_rest = [&](const Vertices& r, const std::vector<std::string>& which) {
-    const auto m = measure_some(model, which, r);
-    Eigen::VectorXd out(static_cast<Eigen::Index>(which.size()));
-    for (size_t i = 0; i < which.size(); ++i) out(static_cast<Eigen::Index>(i)) = m.at(which[i]);
-    return out;
+  Eigen::VectorXd rest_of;
+  auto rest_at = [&](const Eigen::VectorXd& beta) -> const Vertices& {
+    if (rest_of.size() != beta.size() || rest_of != beta) {
+      rest_of.resize(0);  // not valid until the new vertices are in
+      model.rest_vertices(beta, rest);
+      rest_of = beta;
+    }
+    return rest;
   };
+
+  const VolumePolynomial& body_volume = volume();
   // Measures `which` on the body of β (SI, weight in kg), in the order of `which`.
   auto measure_at = [&](const Eigen::VectorXd& beta, const std::vector<std::string>& which) {
-    model.rest_vertices(beta, rest);
-    return measure_rest(rest, which);
+    return measure_values(model, body_volume, beta, rest_at(beta), which);
   };
   auto objective = [&](const Eigen::VectorXd& beta, const Eigen::VectorXd& m) {
     return (m - y).cwiseProduct(w).dot(m - y) + beta.squaredNorm();
   };
   auto jacobian = [&](const Eigen::VectorXd& beta, const std::vector<std::string>& which, Eigen::VectorXd& base) {
-    model.rest_vertices(beta, rest);
-    return measurement_jacobian(model, rest, which, base);
+    return measurement_jacobian(model, body_volume, beta, rest_at(beta), which, base);
   };
 
   MapEstimate est;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "caliper/body/body_model.h"
+#include "caliper/body/volume_polynomial.h"
 
 namespace caliper {
 
@@ -119,6 +120,8 @@ class MapEstimator {
     Eigen::MatrixXd j0;  // their Jacobian there
   };
   const Linearisation& at_mean() const;  // computed once, thread-safe
+  // The body's volume as a cubic in β, for the weight at every step; worked out once, thread-safe.
+  const VolumePolynomial& volume() const;
   // One MAP solve with the given options (no population bound).
   MapEstimate solve(const std::map<std::string, double>& values, const MapOptions& options) const;
   // Re-solves with every input's noise widened until β̂ is within the population.
@@ -129,6 +132,8 @@ class MapEstimator {
   std::vector<std::string> all_measurements_;
   mutable std::once_flag mean_once_;
   mutable Linearisation mean_;
+  mutable std::once_flag volume_once_;
+  mutable std::unique_ptr<VolumePolynomial> volume_;
 };
 
 }  // namespace caliper
