@@ -2728,6 +2728,180 @@ void place_fine(Builder& B) {
   });
 }
 
+// -- The relief of torso, neck and head (sculpt()).
+// Where one body's relief goes: its key levels and breadths, and its units, from its plan.
+struct ReliefFrame {
+  bool female = false;
+  double fem = 0;  // 1 for women, 0 for men, 0.5 for the neutral body
+  double cm = 0;   // one centimetre on a 1.70 m body
+  HeadFrame H;     // the face's own units (head centimetres)
+  double y_hip = 0, y_w = 0, y_us = 0, y_ch = 0, y_ax = 0, y_acr = 0, y_s2 = 0, y_nk = 0, y_cv = 0;  // key rings
+  double y_gf = 0, y_crotch = 0;         // the gluteal furrow, the crotch
+  double a_ch = 0, a_sh = 0, a_hip = 0;  // half-breadths: chest, shoulders' top, hip
+  double thigh_out = 0;                  // the thigh's outer side at its girth ring
+  // The iliac crest's front (its anterior spine), (x, y); and the groin's fold, from the thigh's
+  // inner front beside the crotch up and out to it.
+  Eigen::Vector2d iliac_front, groin0;
+  double groin_fold_x(double y) const {
+    return std::lerp(groin0.x(), iliac_front.x(), std::clamp((y - groin0.y()) / (iliac_front.y() - groin0.y()), 0.0, 1.0));
+  }
+};
+
+ReliefFrame relief_frame(const BodyPlan& P, const Dims& d, Sex sex, const Builder& B) {
+  ReliefFrame F;
+  F.female = sex == Sex::Female;
+  F.fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
+  const double sc = d.S / 1.70;
+  F.cm = 0.01 * sc;
+  F.H = head_frame(P, d);
+  auto ring_y = [&](int key) { return P.torso[static_cast<size_t>(torso_key_ring(key))].y; };
+  F.y_hip = ring_y(kHip);
+  F.y_w = ring_y(kWaist);
+  F.y_us = ring_y(kUnderBust);
+  F.y_ch = ring_y(kChest);
+  F.y_ax = ring_y(kAxilla);
+  F.y_acr = ring_y(kHoleTop);
+  F.y_s2 = ring_y(kShoulder2);
+  F.y_nk = ring_y(kNeck);
+  F.y_cv = ring_y(kCervicale);
+  F.y_gf = B.v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
+  F.y_crotch = P.crotch_y;
+  F.a_ch = P.torso[static_cast<size_t>(torso_key_ring(kChest))].a;
+  F.a_sh = P.torso[static_cast<size_t>(torso_key_ring(kHoleTop))].a;
+  F.a_hip = P.torso[static_cast<size_t>(torso_key_ring(kHip))].a;
+  const LegRing& thigh_ring = P.leg[static_cast<size_t>(leg_key_ring(kThigh))];
+  F.thigh_out = thigh_ring.xc + thigh_ring.al;
+  F.iliac_front = Eigen::Vector2d(0.78 * F.a_hip, F.y_hip + 0.45 * (F.y_w - F.y_hip));
+  F.groin0 = Eigen::Vector2d(thigh_ring.xc - 0.5 * thigh_ring.am, P.crotch_y + 1.0 * F.cm);
+  return F;
+}
+
+// Each of the next three adds its features' heights (metres, outward) to h at a point (x from the
+// midline, height y) of the left half; `front` and `back` fade from 1 on the torso's front or
+// back to 0 at its sides.
+
+// The face and the ears, above C7 (p on ring k, column jf, fractional on the face's fine rings).
+void add_head_relief(const ReliefFrame& F, const BodyPlan& P, const Vec3& p, int k, double jf, double& h) {
+  const double x = std::abs(p.x()), y = p.y();
+  // The face, in head centimetres from the glabella (X across, Y up; face_height()).
+  const double X = F.H.X(x), Y = F.H.Y(y);
+  // Faded out toward the head's sides by the point's place across its ring, not by its
+  // column: the face's columns are respaced (respace_torso_columns), so a column's index
+  // no longer says where it lies.
+  const double face_front = jf <= kTorsoN / 4 ? 1 - smoothstep(0.78, 0.98, x / P.torso[static_cast<size_t>(k)].a) : 0.0;
+  h += face_front * face_height(X, Y) * F.H.hu;
+  // Ears, on the head's sides (by place, not column: the ears' columns are respaced too).
+  const double side = smoothstep(0.55, 0.85, x / P.torso[static_cast<size_t>(k)].a);
+  h += side * ear_height(Y, F.H.Z(p.z())) * F.H.hu;
+}
+
+// The front: the groove down the sternum, pectorals or the folds under the breasts, clavicles,
+// the rib cage's lower border, the iliac crest's front, the groin, the navel.
+void add_front_relief(const ReliefFrame& F, double x, double y, double front, double& h) {
+  const double cm = F.cm;
+  // Groove between the pectorals / breasts, running on as the linea alba to the navel.
+  const double g = F.female ? 0.75 * cm : 0.90 * cm;
+  const double along = window(y, F.y_w + 2 * cm, F.y_us, F.y_acr - 8 * cm, F.y_acr - 2.5 * cm);
+  const double upper = smoothstep(F.y_us - 3 * cm, F.y_us + 4 * cm, y);
+  h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, F.female ? 4.5 : 5.0, upper) * cm, 1);
+  // Men: the pectorals' lower border, rising from the sternum to the armpit.
+  if (!F.female) {
+    // Shallow and wide: 1.1 cm deep, rising over 2.6 cm above, it drew a line across the chest.
+    const double amp = (1 - F.fem) * 0.9 * cm;
+    const double yb = F.y_ch - 3.2 * cm + 6.5 * cm * sq(x / F.a_ch);
+    const double dy = y - yb;
+    const double prof = dy > 0 ? blob(dy, 0, 3.5 * cm, 1) : blob(dy, 0, 6.0 * cm, 1);
+    h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * F.a_ch, 0.9 * F.a_ch);
+  }
+  // Women: the fold under each breast.
+  if (F.fem > 0) {
+    const double xb = 0.62 * F.a_ch;
+    const double yb = F.y_ch - 7.0 * cm + 2.5 * cm * sq((x - xb) / (0.45 * F.a_ch));
+    const double dy = y - yb;
+    const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
+    h -= front * F.fem * 0.6 * cm * prof * blob(x - xb, 0, 0.6 * F.a_ch, 1);
+  }
+  // Clavicles: a ridge from the sternum to the shoulder, hollows above and below it.
+  const double x0 = 1.8 * cm, x1 = F.a_sh - 4.0 * cm;
+  if (x1 > x0) {
+    const double u = std::clamp((x - x0) / (x1 - x0), 0.0, 1.0);
+    const double ycl = F.y_acr - 2.4 * cm + 1.6 * cm * u;
+    const double along_cl = window(x, x0 - 1 * cm, x0 + 1 * cm, x1 - 1.5 * cm, x1 + 0.5 * cm);
+    h += front * along_cl * 0.30 * cm * blob(y - ycl, 0, 2.0 * cm, 1);
+    h -= front * 0.60 * cm * blob(x - (x0 + 0.55 * (x1 - x0)), y - (ycl + 2.8 * cm), 0.35 * (x1 - x0), 2.0 * cm) *
+         (1 - smoothstep(F.y_nk - 2.5 * cm, F.y_nk - 0.5 * cm, y));  // not into the neck's girth
+    h -= front * 0.30 * cm * blob(x - (x0 + 0.7 * (x1 - x0)), y - (ycl - 3.2 * cm), 0.3 * (x1 - x0), 1.8 * cm);
+  }
+  // Women: the breasts' upper slope eases into the upper chest (the lofted profile bends
+  // there, a line across the chest).
+  if (F.fem > 0)
+    h += front * F.fem * 0.45 * cm * blob(x - 0.55 * F.a_ch, y - (F.y_ax - 0.5 * cm), 0.7 * F.a_ch, 3.5 * cm);
+  // The rib cage's lower border: an inverted V from the sternum's tip out to the flanks,
+  // the belly below it a little hollow.
+  {
+    const double yr = F.y_us + 2.0 * cm - 6.0 * cm * std::min(1.0, x / (0.8 * F.a_ch));
+    const double dy = yr - y;  // > 0 below the border
+    const double below = dy > 0 ? blob(dy - 2.0 * cm, 0, 3.0 * cm, 1) : 0.0;
+    h -= front * (0.25 - 0.1 * F.fem) * cm * below * window(x, 1.0 * cm, 3.0 * cm, 0.75 * F.a_ch, 0.95 * F.a_ch) *
+         smoothstep(F.y_w + 1.5 * cm, F.y_w + 4 * cm, y);
+  }
+  // The front of the iliac crest (its anterior spine), between the hip and waist sections.
+  {
+    const double ry = 0.3 * (F.y_w - F.y_hip);
+    h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - F.iliac_front.x(), y - F.iliac_front.y(), 2.5 * cm, ry);
+  }
+  // The groin: the fold where the thigh's front meets the lower belly, from beside the crotch
+  // up and out toward the iliac crest's front. Without it the belly ended in a level line
+  // across both thighs, the hem of a pair of shorts.
+  {
+    const Eigen::Vector2d e = F.iliac_front - F.groin0, q(x, y);
+    const double u = std::clamp((q - F.groin0).dot(e) / e.squaredNorm(), 0.0, 1.0);
+    const double dist = (q - (F.groin0 + u * e)).norm();
+    h -= front * std::lerp(0.5, 0.4, F.fem) * cm * window(u, 0.0, 0.3, 0.75, 1.0) * blob(dist, 0, 2.0 * cm, 1);
+  }
+  // Navel: a dimple just under the omphalion (which keeps its place and depth).
+  h -= front * 0.45 * cm * blob(x, y - (F.y_w - 0.9 * cm), 1.6 * cm, 1.0 * cm);
+}
+
+// The back: the lower back's hollow, the gluteal folds, the shoulder blades (the spine's groove
+// is drawn ring by ring in sculpt()).
+void add_back_relief(const ReliefFrame& F, double x, double y, double back, double& h) {
+  const double cm = F.cm;
+  // The lower back's hollow above the waist (its section untouched).
+  {
+    const double ry = 0.45 * (F.y_us - F.y_w);
+    h -= back * 0.35 * cm * blob(x, y - 0.5 * (F.y_w + F.y_us), 0.55 * F.a_ch, ry);
+  }
+  // Gluteal fold: under each buttock over the back of the thigh, rising toward the midline.
+  {
+    const double xe = F.thigh_out;
+    const double yf = F.y_gf - 1.5 * cm * sq(std::min(1.0, x / xe));
+    const double dy = y - yf;
+    const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.0 * cm, 1);
+    // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
+    h -= back * 0.55 * cm * smoothstep(2.0 * cm, 5.0 * cm, F.y_gf - F.y_crotch) * prof * window(x, 1.0 * cm, 3.5 * cm, 0.75 * xe, 0.95 * xe);
+  }
+  // Shoulder blades.
+  const double ys = F.y_ch + 0.55 * (F.y_acr - F.y_ch), ry = std::max(0.5 * cm, 0.4 * (F.y_acr - F.y_ch));
+  h += back * 0.8 * cm * blob(x - 0.42 * F.a_ch, y - ys, 0.32 * F.a_ch, ry);
+}
+
+// The relief's height (metres, outward) at p on ring k, column jf of the left half (fractional
+// on the face's fine rings).
+double torso_relief(const ReliefFrame& F, const BodyPlan& P, const Vec3& p, int k, double jf) {
+  const double t = 2 * kPi * jf / kTorsoN, c = std::cos(t), s = std::sin(t);
+  const double x = std::abs(p.x()), y = p.y();
+  const double front = smoothstep(0.25, 0.65, c), back = smoothstep(0.25, 0.65, -c);
+  double h = 0;
+  if (y > F.y_cv) add_head_relief(F, P, p, k, jf, h);
+  add_front_relief(F, x, y, front, h);
+  // The neck's base: the ring under the neck flares less, so the neck flows into the
+  // trapezius and the collarbones instead of standing on a collar.
+  h -= 0.35 * F.cm * blob(y - F.y_s2, 0, F.y_nk - F.y_s2, 1) * smoothstep(0.15, 0.6, s);
+  add_back_relief(F, x, y, back, h);
+  return h;
+}
+
 // The groin, filled outside its fold. Where the belly's lowest rings hug the thighs they fell up
 // to 8 mm behind the thigh's front below them and the hip ring above (the thigh is a round tube,
 // the torso's rings one superellipse round both): a level groove across the front, the hem of a
@@ -2781,18 +2955,41 @@ void fill_groin(const BodyPlan& P, const Grid& T, const Grid& L, const std::vect
       if (L.id(r, k) >= 0) fill(L.id(r, k), std::cos(leg_angle(k)), smoothstep(-0.1, 0.4, std::sin(leg_angle(k))));
 }
 
+// The knee's and the ankle's relief at p, column k of a left leg ring (metres, outward): the
+// kneecap and the tendons beside it, the inner thigh's teardrop, the hollow behind the knee, the
+// Achilles tendon's hollows and the malleoli, placed by the knee and malleolus rings.
+double leg_relief(const ReliefFrame& F, const LegRing& knee, const LegRing& mall, const Vec3& p, int k) {
+  const double phi = leg_angle(k), c = std::cos(phi), s = std::sin(phi);
+  const double xl = p.x() - knee.xc, zl = p.z() - mall.zc, y = p.y();
+  const double y_kn = knee.y, y_ml = mall.y, cm = F.cm;
+  double h = 0;
+  // Kneecap, with the hollows beside the patellar tendon below it.
+  const double fr = smoothstep(0.2, 0.6, c);
+  h += fr * 0.50 * cm * blob(xl, y - (y_kn + 0.6 * cm), 2.8 * cm, 4.5 * cm);
+  h -= fr * 0.30 * cm * (blob(xl - 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm) +
+                         blob(xl + 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm));
+  // The inner thigh's teardrop (vastus medialis) over the knee's inner side, between the knee
+  // ring and the lower thigh's girth ring above it; the hollow behind the knee between the
+  // hamstrings' tendons, centred 1 cm above the knee ring and ending below that girth ring.
+  h += smoothstep(0.2, 0.8, -s) * smoothstep(-0.4, 0.3, c) * 0.45 * cm * blob(0, y - (y_kn + 5.0 * cm), 1, 4.0 * cm);
+  h -= smoothstep(0.5, 0.9, -c) * 0.45 * cm * blob(xl, y - (y_kn + 1.0 * cm), 3.0 * cm, 4.5 * cm);
+  // The hollows either side of the Achilles tendon, behind the malleoli.
+  const double beside_tendon = std::exp(-sq((std::abs(std::remainder(phi, 2 * kPi)) - (kPi - 0.75)) / 0.3));
+  h -= beside_tendon * 0.35 * cm * blob(0, y - y_ml, 1, 3.5 * cm);
+  // Malleoli: the lateral one lower and further back than the medial one.
+  h += smoothstep(0.5, 0.9, s) * 0.40 * cm * blob(zl + 0.3 * cm, y - (y_ml + 0.6 * cm), 2.2 * cm, 2.2 * cm);
+  h += smoothstep(0.5, 0.9, -s) * 0.35 * cm * blob(zl - 0.3 * cm, y - (y_ml + 1.4 * cm), 2.2 * cm, 2.2 * cm);
+  return h;
+}
+
 void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
-  const bool female = sex == Sex::Female;
-  const double fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
-  const double sc = d.S / 1.70;
-  const double cm = 0.01 * sc;               // one centimetre on a 1.70 m body
-  const HeadFrame H = head_frame(P, d);
-  const double hu = H.hu;                    // one centimetre on a 19.5 cm long head
+  const ReliefFrame F = relief_frame(P, d, sex, B);
+  const double cm = F.cm;  // one centimetre on a 1.70 m body
   std::vector<Vec3>& v = B.v;
   {
     std::set<int> pinned;
     for (const auto& [name, id] : B.landmarks) pinned.insert(id);
-    respace_torso_columns(B, pinned, H);
+    respace_torso_columns(B, pinned, F.H);
     place_fine(B);
   }
   const std::vector<Vec3> v0 = v;
@@ -2800,134 +2997,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   std::vector<double> ridge(v.size(), 0.0);  // the erector muscles' share of it (see above)
   std::vector<Vec3> N(v.size(), Vec3::Zero());
 
-  auto ring_y = [&](int key) { return P.torso[static_cast<size_t>(torso_key_ring(key))].y; };
-  const double y_hip = ring_y(kHip), y_w = ring_y(kWaist), y_us = ring_y(kUnderBust), y_ch = ring_y(kChest),
-               y_acr = ring_y(kHoleTop), y_nk = ring_y(kNeck), y_cv = ring_y(kCervicale);
-  const TorsoRing& chest = P.torso[static_cast<size_t>(torso_key_ring(kChest))];
-  const double a_ch = chest.a, a_sh = P.torso[static_cast<size_t>(torso_key_ring(kHoleTop))].a;
-  const double a_hip = P.torso[static_cast<size_t>(torso_key_ring(kHip))].a;
-  const double y_ax = ring_y(kAxilla), y_s2 = ring_y(kShoulder2);
-  const double y_gf = v[static_cast<size_t>(B.landmarks.at("gluteal_furrow"))].y();
-  const double thigh_out = P.leg[static_cast<size_t>(leg_key_ring(kThigh))].xc + P.leg[static_cast<size_t>(leg_key_ring(kThigh))].al;
-  // The iliac crest's front (its anterior spine), (x, y); and the groin's fold, from the thigh's
-  // inner front beside the crotch up and out to it.
-  const Eigen::Vector2d iliac_front(0.78 * a_hip, y_hip + 0.45 * (y_w - y_hip));
-  const LegRing& thigh_ring = P.leg[static_cast<size_t>(leg_key_ring(kThigh))];
-  const Eigen::Vector2d groin0(thigh_ring.xc - 0.5 * thigh_ring.am, P.crotch_y + 1.0 * cm);
-  auto groin_fold_x = [&](double y) { return std::lerp(groin0.x(), iliac_front.x(), std::clamp((y - groin0.y()) / (iliac_front.y() - groin0.y()), 0.0, 1.0)); };
-
-  // -- Torso, neck and head (left half, j = 0..32).
-  // The relief's height (metres, outward) at p on ring k, column jf of the left half (fractional
-  // on the face's fine rings).
-  auto torso_relief = [&](const Vec3& p, int k, double jf) {
-    const double t = 2 * kPi * jf / kTorsoN, c = std::cos(t), s = std::sin(t);
-    const double x = std::abs(p.x()), y = p.y();
-    const double front = smoothstep(0.25, 0.65, c), back = smoothstep(0.25, 0.65, -c);
-    double h = 0;
-    if (y > y_cv) {
-      // The face, in head centimetres from the glabella (X across, Y up; face_height()).
-      const double X = H.X(x), Y = H.Y(y);
-      // Faded out toward the head's sides by the point's place across its ring, not by its
-      // column: the face's columns are respaced (respace_torso_columns), so a column's index
-      // no longer says where it lies.
-      const double face_front = jf <= kTorsoN / 4 ? 1 - smoothstep(0.78, 0.98, x / P.torso[static_cast<size_t>(k)].a) : 0.0;
-      h += face_front * face_height(X, Y) * hu;
-      // Ears, on the head's sides (by place, not column: the ears' columns are respaced too).
-      const double side = smoothstep(0.55, 0.85, x / P.torso[static_cast<size_t>(k)].a);
-      h += side * ear_height(Y, H.Z(p.z())) * hu;
-    }
-    // Torso, front.
-    {
-      // Groove between the pectorals / breasts, running on as the linea alba to the navel.
-      const double g = female ? 0.75 * cm : 0.90 * cm;
-      const double along = window(y, y_w + 2 * cm, y_us, y_acr - 8 * cm, y_acr - 2.5 * cm);
-      const double upper = smoothstep(y_us - 3 * cm, y_us + 4 * cm, y);
-      h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, female ? 4.5 : 5.0, upper) * cm, 1);
-      // Men: the pectorals' lower border, rising from the sternum to the armpit.
-      if (!female) {
-        // Shallow and wide: 1.1 cm deep, rising over 2.6 cm above, it drew a line across the chest.
-        const double amp = (1 - fem) * 0.9 * cm;
-        const double yb = y_ch - 3.2 * cm + 6.5 * cm * sq(x / a_ch);
-        const double dy = y - yb;
-        const double prof = dy > 0 ? blob(dy, 0, 3.5 * cm, 1) : blob(dy, 0, 6.0 * cm, 1);
-        h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * a_ch, 0.9 * a_ch);
-      }
-      // Women: the fold under each breast.
-      if (fem > 0) {
-        const double xb = 0.62 * a_ch;
-        const double yb = y_ch - 7.0 * cm + 2.5 * cm * sq((x - xb) / (0.45 * a_ch));
-        const double dy = y - yb;
-        const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
-        h -= front * fem * 0.6 * cm * prof * blob(x - xb, 0, 0.6 * a_ch, 1);
-      }
-      // Clavicles: a ridge from the sternum to the shoulder, hollows above and below it.
-      const double x0 = 1.8 * cm, x1 = a_sh - 4.0 * cm;
-      if (x1 > x0) {
-        const double u = std::clamp((x - x0) / (x1 - x0), 0.0, 1.0);
-        const double ycl = y_acr - 2.4 * cm + 1.6 * cm * u;
-        const double along_cl = window(x, x0 - 1 * cm, x0 + 1 * cm, x1 - 1.5 * cm, x1 + 0.5 * cm);
-        h += front * along_cl * 0.30 * cm * blob(y - ycl, 0, 2.0 * cm, 1);
-        h -= front * 0.60 * cm * blob(x - (x0 + 0.55 * (x1 - x0)), y - (ycl + 2.8 * cm), 0.35 * (x1 - x0), 2.0 * cm) *
-             (1 - smoothstep(y_nk - 2.5 * cm, y_nk - 0.5 * cm, y));  // not into the neck's girth
-        h -= front * 0.30 * cm * blob(x - (x0 + 0.7 * (x1 - x0)), y - (ycl - 3.2 * cm), 0.3 * (x1 - x0), 1.8 * cm);
-      }
-      // Women: the breasts' upper slope eases into the upper chest (the lofted profile bends
-      // there, a line across the chest).
-      if (fem > 0)
-        h += front * fem * 0.45 * cm * blob(x - 0.55 * a_ch, y - (y_ax - 0.5 * cm), 0.7 * a_ch, 3.5 * cm);
-      // The rib cage's lower border: an inverted V from the sternum's tip out to the flanks,
-      // the belly below it a little hollow.
-      {
-        const double yr = y_us + 2.0 * cm - 6.0 * cm * std::min(1.0, x / (0.8 * a_ch));
-        const double dy = yr - y;  // > 0 below the border
-        const double below = dy > 0 ? blob(dy - 2.0 * cm, 0, 3.0 * cm, 1) : 0.0;
-        h -= front * (0.25 - 0.1 * fem) * cm * below * window(x, 1.0 * cm, 3.0 * cm, 0.75 * a_ch, 0.95 * a_ch) *
-             smoothstep(y_w + 1.5 * cm, y_w + 4 * cm, y);
-      }
-      // The front of the iliac crest (its anterior spine), between the hip and waist sections.
-      {
-        const double ry = 0.3 * (y_w - y_hip);
-        h += front * std::min(0.25 * cm, 0.12 * ry) * blob(x - iliac_front.x(), y - iliac_front.y(), 2.5 * cm, ry);
-      }
-      // The groin: the fold where the thigh's front meets the lower belly, from beside the crotch
-      // up and out toward the iliac crest's front. Without it the belly ended in a level line
-      // across both thighs, the hem of a pair of shorts.
-      {
-        const Eigen::Vector2d e = iliac_front - groin0, q(x, y);
-        const double u = std::clamp((q - groin0).dot(e) / e.squaredNorm(), 0.0, 1.0);
-        const double dist = (q - (groin0 + u * e)).norm();
-        h -= front * std::lerp(0.5, 0.4, fem) * cm * window(u, 0.0, 0.3, 0.75, 1.0) * blob(dist, 0, 2.0 * cm, 1);
-      }
-      // Navel: a dimple just under the omphalion (which keeps its place and depth).
-      h -= front * 0.45 * cm * blob(x, y - (y_w - 0.9 * cm), 1.6 * cm, 1.0 * cm);
-    }
-    // The neck's base: the ring under the neck flares less, so the neck flows into the
-    // trapezius and the collarbones instead of standing on a collar.
-    {
-      h -= 0.35 * cm * blob(y - y_s2, 0, y_nk - y_s2, 1) * smoothstep(0.15, 0.6, s);
-    }
-    // Torso, back.
-    {
-      // The lower back's hollow above the waist (its section untouched).
-      {
-        const double ry = 0.45 * (y_us - y_w);
-        h -= back * 0.35 * cm * blob(x, y - 0.5 * (y_w + y_us), 0.55 * a_ch, ry);
-      }
-      // Gluteal fold: under each buttock over the back of the thigh, rising toward the midline.
-      {
-        const double xe = thigh_out;
-        const double yf = y_gf - 1.5 * cm * sq(std::min(1.0, x / xe));
-        const double dy = y - yf;
-        const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.0 * cm, 1);
-        // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
-        h -= back * 0.55 * cm * smoothstep(2.0 * cm, 5.0 * cm, y_gf - P.crotch_y) * prof * window(x, 1.0 * cm, 3.5 * cm, 0.75 * xe, 0.95 * xe);
-      }
-      // Shoulder blades.
-      const double ys = y_ch + 0.55 * (y_acr - y_ch), ry = std::max(0.5 * cm, 0.4 * (y_acr - y_ch));
-      h += back * 0.8 * cm * blob(x - 0.42 * a_ch, y - ys, 0.32 * a_ch, ry);
-    }
-    return h;
-  };
+  // -- Torso, neck and head (left half, j = 0..32): torso_relief().
   const Grid T{&B.torso};
   const int nt = T.rings();
   for (int k = 0; k < nt; ++k)
@@ -2935,18 +3005,18 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       const int id = T.id(k, j);
       if (id < 0) continue;
       N[static_cast<size_t>(id)] = ring_normal(T, v0, k, j);
-      D[static_cast<size_t>(id)] = torso_relief(v0[static_cast<size_t>(id)], k, j);
+      D[static_cast<size_t>(id)] = torso_relief(F, P, v0[static_cast<size_t>(id)], k, j);
     }
   // The fine rings' halfway vertices, each moved along its chord's outward normal.
   for_each_fine(B, [&](int k, int j, int id, int) {
     N[static_cast<size_t>(id)] = outward_across(v0[static_cast<size_t>(T.id(k, j + 1))] - v0[static_cast<size_t>(T.id(k, j))]);
-    D[static_cast<size_t>(id)] = torso_relief(v0[static_cast<size_t>(id)], k, j + 0.5);
+    D[static_cast<size_t>(id)] = torso_relief(F, P, v0[static_cast<size_t>(id)], k, j + 0.5);
   });
   // The spine groove and the erector muscles beside it, ring by ring (see the section comment).
   for (int k = 0; k < nt; ++k) {
     const double yk = P.torso[static_cast<size_t>(k)].y;
-    const double depth = window(yk, y_hip + 1 * cm, std::max(y_w - 1 * cm, y_hip + 6 * cm), y_cv - 10 * cm, y_cv - 3 * cm) *
-                         std::lerp(0.45 * cm, 0.60 * cm, 1 - smoothstep(y_us, y_ch, yk));
+    const double depth = window(yk, F.y_hip + 1 * cm, std::max(F.y_w - 1 * cm, F.y_hip + 6 * cm), F.y_cv - 10 * cm, F.y_cv - 3 * cm) *
+                         std::lerp(0.45 * cm, 0.60 * cm, 1 - smoothstep(F.y_us, F.y_ch, yk));
     if (depth <= 0) continue;
     double back_extreme = 1e9;
     for (int j = kTorsoN / 4; j <= kTorsoN / 2; ++j)
@@ -2960,7 +3030,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
       D[static_cast<size_t>(id)] -= groove;
       const double room = p.z() - back_extreme;  // how far this point lies inside the back's extreme
       // Only around the waist, whose depth is a target: elsewhere the groove may deepen the back.
-      const double near_waist = blob(p.y() - y_w, 0, 7 * cm, 1);
+      const double near_waist = blob(p.y() - F.y_w, 0, 7 * cm, 1);
       ridge[static_cast<size_t>(id)] = near_waist * room * depth / (room + depth + 1e-12) * blob(x - 4.2 * cm, 0, 3.4 * cm, 1);
     }
   }
@@ -2969,36 +3039,15 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   const Grid L{&B.leg[0]};
   const int knee_r = leg_key_ring(kKnee), mall_r = leg_key_ring(kMalleolus);
   const LegRing &knee = P.leg[static_cast<size_t>(knee_r)], &mall = P.leg[static_cast<size_t>(mall_r)];
-  const double y_kn = knee.y, y_ml = mall.y;
   for (int r = 1; r < L.rings(); ++r)
     for (int k = 0; k < kLegN; ++k) {
       const int id = L.id(r, k);
       if (id < 0) continue;  // a toe's hole
       N[static_cast<size_t>(id)] = ring_normal(L, v0, r, k);
-      const Vec3& p = v0[static_cast<size_t>(id)];
-      const double phi = leg_angle(k), c = std::cos(phi), s = std::sin(phi);
-      const double xl = p.x() - knee.xc, zl = p.z() - mall.zc, y = p.y();
-      double h = 0;
-      // Kneecap, with the hollows beside the patellar tendon below it.
-      const double fr = smoothstep(0.2, 0.6, c);
-      h += fr * 0.50 * cm * blob(xl, y - (y_kn + 0.6 * cm), 2.8 * cm, 4.5 * cm);
-      h -= fr * 0.30 * cm * (blob(xl - 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm) +
-                             blob(xl + 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm));
-      // The inner thigh's teardrop (vastus medialis) over the knee's inner side, between the knee
-      // ring and the lower thigh's girth ring above it; the hollow behind the knee between the
-      // hamstrings' tendons, centred 1 cm above the knee ring and ending below that girth ring.
-      h += smoothstep(0.2, 0.8, -s) * smoothstep(-0.4, 0.3, c) * 0.45 * cm * blob(0, y - (y_kn + 5.0 * cm), 1, 4.0 * cm);
-      h -= smoothstep(0.5, 0.9, -c) * 0.45 * cm * blob(xl, y - (y_kn + 1.0 * cm), 3.0 * cm, 4.5 * cm);
-      // The hollows either side of the Achilles tendon, behind the malleoli.
-      const double beside_tendon = std::exp(-sq((std::abs(std::remainder(phi, 2 * kPi)) - (kPi - 0.75)) / 0.3));
-      h -= beside_tendon * 0.35 * cm * blob(0, y - y_ml, 1, 3.5 * cm);
-      // Malleoli: the lateral one lower and further back than the medial one.
-      h += smoothstep(0.5, 0.9, s) * 0.40 * cm * blob(zl + 0.3 * cm, y - (y_ml + 0.6 * cm), 2.2 * cm, 2.2 * cm);
-      h += smoothstep(0.5, 0.9, -s) * 0.35 * cm * blob(zl - 0.3 * cm, y - (y_ml + 1.4 * cm), 2.2 * cm, 2.2 * cm);
-      D[static_cast<size_t>(id)] = h;
+      D[static_cast<size_t>(id)] = leg_relief(F, knee, mall, v0[static_cast<size_t>(id)], k);
     }
 
-  fill_groin(P, T, L, v0, N, y_hip, cm, groin_fold_x, D);
+  fill_groin(P, T, L, v0, N, F.y_hip, cm, [&](double y) { return F.groin_fold_x(y); }, D);
 
   // -- Arms (left arm, T-posed along +X): the deltoid's cap. Over the shoulder's outside the
   // arm's rings ran straight on from the torso's slope, a doll's square shoulder. The muscle
@@ -3011,7 +3060,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
     const double x_acr = v0[static_cast<size_t>(B.landmarks.at("acromion_left"))].x();
     const double x_bi = v0[static_cast<size_t>(B.landmarks.at("biceps_left"))].x();
     const double len = x_bi - x_acr;
-    const double amp = std::lerp(0.8, 0.6, fem) * cm;
+    const double amp = std::lerp(0.8, 0.6, F.fem) * cm;
     for (int r = 1; r < Ar.rings(); ++r) {
       Vec3 centre = Vec3::Zero();
       for (int q = 0; q < kArmN; ++q) centre += v0[static_cast<size_t>(Ar.id(r, q))];
