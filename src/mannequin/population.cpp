@@ -22,6 +22,25 @@ namespace caliper::mannequin {
 
 namespace {
 
+// Eigen splits matrix products (and the blocked Householder QR) into blocks sized by the CPU
+// caches it detects, and the blocks set the order in which sums are added: on a machine with
+// other caches the shape directions came out different in the 16th digit, and the committed
+// models did not rebuild bit for bit. The PCA runs with one fixed set of sizes and puts the
+// caller's back afterwards. (They are Eigen's process-wide settings: nothing else in a model
+// build multiplies matrices meanwhile.)
+class FixedProductBlocking {
+ public:
+  FixedProductBlocking() : l1_(Eigen::l1CacheSize()), l2_(Eigen::l2CacheSize()), l3_(Eigen::l3CacheSize()) {
+    Eigen::setCpuCacheSizes(32 * 1024, 1024 * 1024, 32 * 1024 * 1024);
+  }
+  ~FixedProductBlocking() { Eigen::setCpuCacheSizes(l1_, l2_, l3_); }
+  FixedProductBlocking(const FixedProductBlocking&) = delete;
+  FixedProductBlocking& operator=(const FixedProductBlocking&) = delete;
+
+ private:
+  std::ptrdiff_t l1_, l2_, l3_;
+};
+
 Eigen::MatrixXd orthonormalize(const Eigen::MatrixXd& m) {
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(m);
   return qr.householderQ() * Eigen::MatrixXd::Identity(m.rows(), m.cols());
@@ -36,6 +55,7 @@ PrincipalComponents principal_components(Eigen::MatrixXd& bodies, int k, std::ui
   // PCA by a randomized range finder with power iterations (Halko, Martinsson & Tropp 2011):
   // exact to double precision for the leading components of such a low-rank population, and
   // far cheaper than the n×n Gram matrix.
+  const FixedProductBlocking same_sums_on_every_machine;
   PrincipalComponents out;
   out.mean = bodies.colwise().mean();
   bodies.rowwise() -= out.mean;
