@@ -2983,6 +2983,8 @@ double leg_relief(const ReliefFrame& F, const LegRing& knee, const LegRing& mall
 }
 
 void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
+  // The frame reads the gluteal furrow's height before the columns are re-spaced: landmarks are
+  // pinned there, and re-spacing keeps every ring's level.
   const ReliefFrame F = relief_frame(P, d, sex, B);
   const double cm = F.cm;  // one centimetre on a 1.70 m body
   std::vector<Vec3>& v = B.v;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <map>
+#include <mutex>
 #include <cmath>
 #include <sstream>
 #include <thread>
@@ -26,11 +27,12 @@ namespace {
 // caches it detects, and the blocks set the order in which sums are added: on a machine with
 // other caches the shape directions came out different in the 16th digit, and the committed
 // models did not rebuild bit for bit. The PCA runs with one fixed set of sizes and puts the
-// caller's back afterwards. (They are Eigen's process-wide settings: nothing else in a model
-// build multiplies matrices meanwhile.)
+// caller's back afterwards. (Same bits wherever the build is the same: x86-64, the same compiler
+// flags and Eigen. The sizes are Eigen's process-wide settings: one PCA at a time, and nothing
+// else in a model build multiplies matrices meanwhile; principal_components()'s header says so.)
 class FixedProductBlocking {
  public:
-  FixedProductBlocking() : l1_(Eigen::l1CacheSize()), l2_(Eigen::l2CacheSize()), l3_(Eigen::l3CacheSize()) {
+  FixedProductBlocking() : lock_(mutex()), l1_(Eigen::l1CacheSize()), l2_(Eigen::l2CacheSize()), l3_(Eigen::l3CacheSize()) {
     Eigen::setCpuCacheSizes(32 * 1024, 1024 * 1024, 32 * 1024 * 1024);
   }
   ~FixedProductBlocking() { Eigen::setCpuCacheSizes(l1_, l2_, l3_); }
@@ -38,6 +40,11 @@ class FixedProductBlocking {
   FixedProductBlocking& operator=(const FixedProductBlocking&) = delete;
 
  private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
   std::ptrdiff_t l1_, l2_, l3_;
 };
 

@@ -70,13 +70,20 @@ MapEstimator::MapEstimator(std::shared_ptr<const BodyModel> model) : model_(std:
 
 // Defined below, with the other helpers.
 namespace {
-Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const VolumePolynomial& volume, const Eigen::VectorXd& beta,
+Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const VolumePolynomial* volume, const Eigen::VectorXd& beta,
                                      const Vertices& rest, const std::vector<std::string>& which, Eigen::VectorXd& base);
 }
 
-const VolumePolynomial& MapEstimator::volume() const {
-  std::call_once(volume_once_, [this] { volume_ = std::make_unique<VolumePolynomial>(*model_); });
-  return *volume_;
+// Its K³ coefficients outgrow the mesh above this many shape directions (an SMPL-X file may carry
+// 400: a gigabyte, and each evaluation slower than a pass over the faces); such models weigh the
+// mesh at every step instead.
+constexpr int kMaxPolynomialShapes = 64;
+
+const VolumePolynomial* MapEstimator::volume() const {
+  std::call_once(volume_once_, [this] {
+    if (model_->shape_count() <= kMaxPolynomialShapes) volume_ = std::make_unique<VolumePolynomial>(*model_);
+  });
+  return volume_.get();
 }
 
 const MapEstimator::Linearisation& MapEstimator::at_mean() const {
@@ -101,25 +108,29 @@ double weight_at(const BodyModel& model, const VolumePolynomial& volume, const E
 }
 
 // `which` measured on the body of β (SI, weight in kg), in the order of `which`: the weight from
-// the volume polynomial, the rest on its rest vertices `rest` = T(β).
-Eigen::VectorXd measure_values(const BodyModel& model, const VolumePolynomial& volume, const Eigen::VectorXd& beta,
+// the volume polynomial when there is one, the rest (and else the weight) on its rest vertices
+// `rest` = T(β).
+Eigen::VectorXd measure_values(const BodyModel& model, const VolumePolynomial* volume, const Eigen::VectorXd& beta,
                                const Vertices& rest, const std::vector<std::string>& which) {
-  auto is_weight = [&](const std::string& name) { return model.find_measurement(name)->kind == MeasurementKind::Weight; };
+  auto is_weight = [&](const std::string& name) {
+    return volume && model.find_measurement(name)->kind == MeasurementKind::Weight;
+  };
   std::vector<std::string> on_mesh;
   for (const auto& name : which)
     if (!is_weight(name)) on_mesh.push_back(name);
   const auto measured = measure_some(model, on_mesh, rest);
   Eigen::VectorXd out(static_cast<Eigen::Index>(which.size()));
   for (size_t i = 0; i < which.size(); ++i)
-    out(static_cast<Eigen::Index>(i)) = is_weight(which[i]) ? weight_at(model, volume, beta, nullptr) : measured.at(which[i]);
+    out(static_cast<Eigen::Index>(i)) = is_weight(which[i]) ? weight_at(model, *volume, beta, nullptr) : measured.at(which[i]);
   return out;
 }
 
 // J = ∂m/∂β (|which| × K) at β, whose rest vertices are `rest`; sets `base` = m(β). Vertices are
 // linear in β (T(β) = T̄ + Sβ), so each row is the measurement's gradient in the vertices times S:
 // exact, and one measuring per measurement instead of K + 1 for finite differences. The weight's
-// row is the volume polynomial's gradient.
-Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const VolumePolynomial& volume, const Eigen::VectorXd& beta,
+// row is the volume polynomial's gradient (without one, the volume's gradient in every vertex
+// through the single-precision directions: BodyModel::shape_gradient).
+Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const VolumePolynomial* volume, const Eigen::VectorXd& beta,
                                      const Vertices& rest, const std::vector<std::string>& which, Eigen::VectorXd& base) {
   const int k = model.shape_count();
   const auto m = static_cast<Eigen::Index>(which.size());
@@ -128,14 +139,15 @@ Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const VolumePolynom
   Eigen::MatrixXd jac = Eigen::MatrixXd::Zero(m, k);
   for (Eigen::Index i = 0; i < m; ++i) {
     const MeasurementDefinition& def = *model.find_measurement(which[static_cast<size_t>(i)]);
-    if (def.kind == MeasurementKind::Weight) {
+    if (volume && def.kind == MeasurementKind::Weight) {
       Eigen::RowVectorXd gradient;
-      base(i) = weight_at(model, volume, beta, &gradient);
+      base(i) = weight_at(model, *volume, beta, &gradient);
       jac.row(i) = gradient;
       continue;
     }
     const MeasurementGradient g = measure_with_gradient(model, def, rest, model.faces());
     base(i) = g.value;
+    if (g.dense.size()) jac.row(i) = model.shape_gradient(g.dense);  // the weight, on the mesh
     for (const GradientTerm& term : g.terms)
       jac.row(i).noalias() += term.d.transpose() * directions.middleRows(3 * static_cast<Eigen::Index>(term.vertex), 3);
   }
@@ -333,16 +345,18 @@ MapEstimate MapEstimator::solve(const std::map<std::string, double>& values, con
   // accepted, whose vertices are still here (each T(β) is a pass over every vertex).
   Vertices rest;
   Eigen::VectorXd rest_of;
+  bool rest_valid = false;
   auto rest_at = [&](const Eigen::VectorXd& beta) -> const Vertices& {
-    if (rest_of.size() != beta.size() || rest_of != beta) {
-      rest_of.resize(0);  // not valid until the new vertices are in
+    if (!rest_valid || rest_of.size() != beta.size() || rest_of != beta) {
+      rest_valid = false;  // not until the new vertices are in
       model.rest_vertices(beta, rest);
       rest_of = beta;
+      rest_valid = true;
     }
     return rest;
   };
 
-  const VolumePolynomial& body_volume = volume();
+  const VolumePolynomial* body_volume = volume();
   // Measures `which` on the body of β (SI, weight in kg), in the order of `which`.
   auto measure_at = [&](const Eigen::VectorXd& beta, const std::vector<std::string>& which) {
     return measure_values(model, body_volume, beta, rest_at(beta), which);

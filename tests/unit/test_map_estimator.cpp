@@ -132,6 +132,33 @@ TEST(MapEstimator, NoiseFreeInputsGiveTheBodyBack) {
   EXPECT_TRUE(est.warnings.empty()) << est.warnings.front();
 }
 
+// Above 64 shape directions the estimator weighs the mesh at every step instead of the volume
+// polynomial (MapEstimator::volume). The toy model with 67 more directions that move nothing
+// must give the toy's own estimate on both paths.
+TEST(MapEstimator, ManyShapeDirectionsWeighTheMesh) {
+  const auto toy = std::make_shared<const BodyModel>(test::toy_model());
+  BodyModelData wide_data = toy->data();
+  wide_data.shape_directions.conservativeResize(Eigen::NoChange, 70);
+  wide_data.shape_directions.rightCols(67).setZero();
+  const auto wide = std::make_shared<const BodyModel>(std::move(wide_data));
+  Eigen::VectorXd truth(3);
+  truth << 0.8, -1.1, 0.4;
+  const auto values = measure_named(*toy, truth, {"stature", "weight", "waist_circumference"});
+  MapOptions opt;
+  opt.noise = NoiseSetting::Exact;
+  opt.vertex_uncertainty = false;
+  const MapEstimate by_polynomial = MapEstimator(toy).estimate(values, opt);
+  const MapEstimate by_mesh = MapEstimator(wide).estimate(values, opt);
+  ASSERT_EQ(by_mesh.beta.size(), 70);
+  // The same body to within the solver's own stopping rule (a step under 1e-3 SD).
+  EXPECT_LT((by_mesh.beta.head(3) - by_polynomial.beta).cwiseAbs().maxCoeff(), 2e-3)
+      << by_mesh.beta.head(3).transpose() << " vs " << by_polynomial.beta.transpose();
+  EXPECT_LT(by_mesh.beta.tail(67).cwiseAbs().maxCoeff(), 1e-9);
+  for (const auto& [name, fit] : by_mesh.inputs)
+    EXPECT_NEAR(fit.fitted, values.at(name), name == "weight" ? 0.02 : 2e-4) << name;
+  EXPECT_NEAR(by_mesh.inputs.at("weight").fitted, by_polynomial.inputs.at("weight").fitted, 1e-3);
+}
+
 // What a user gets by default (auto, no noise stated): the given values of twenty people drawn
 // from the population come back to within 0.1 cm and 0.1 kg, whatever subset was given.
 TEST(MapEstimator, DefaultEstimatorReproducesGivenValues) {

@@ -45,6 +45,9 @@ struct PrincipalComponents {
   Eigen::MatrixXd directions;       // 3N × k, column c = unit direction · its standard deviation
   std::vector<double> explained;    // share of total variance per kept component
 };
+// The same bits on any machine running the same build (x86-64, the same compiler flags and Eigen):
+// its products use fixed block sizes (src/mannequin/population.cpp). It sets Eigen's process-wide cache sizes while it runs, so no other thread may multiply Eigen
+// matrices meanwhile (PCAs themselves wait for one another).
 PrincipalComponents principal_components(Eigen::MatrixXd& bodies, int k, std::uint64_t seed);
 
 // weight = a·volume + b fitted by least squares on the subjects (paper §3.4.2), with the MAE of

@@ -121,7 +121,8 @@ class MapEstimator {
   };
   const Linearisation& at_mean() const;  // computed once, thread-safe
   // The body's volume as a cubic in β, for the weight at every step; worked out once, thread-safe.
-  const VolumePolynomial& volume() const;
+  // Null for a model with more than 64 shape directions (the weight is then measured on the mesh).
+  const VolumePolynomial* volume() const;
   // One MAP solve with the given options (no population bound).
   MapEstimate solve(const std::map<std::string, double>& values, const MapOptions& options) const;
   // Re-solves with every input's noise widened until β̂ is within the population.
