@@ -1072,10 +1072,12 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double head_cz = K[kNeck].cz + 0.042 * hs;
     TorsoRing r = K[kNeck];
     r.y = y_cv;
-    // Above the neck ring the neck narrows a little toward the jaw, and C7 stands a few
-    // millimetres in front of the neck ring's back: the back of the neck keeps leaning forward
-    // through C7 into the nape instead of rising upright from a step.
-    r.a *= 0.95; r.db *= 0.95; r.df *= 0.99;
+    // Above the neck ring the neck narrows a little toward the jaw, and C7 stands about a
+    // centimetre (18 % of the neck ring's back) in front of the neck ring's back: the back of the
+    // neck leans forward from its base through C7 into the nape. With C7 only 5 % in front
+    // (before 2026-11-29) the back of the neck rose nearly upright to C7 and turned forward
+    // there, and from behind its lower part stood lit under the nape's shade: a collar.
+    r.a *= 0.95; r.db *= 0.82; r.df *= 0.99;
     // The neck's front leans forward up to the floor of the mouth: the cervicale ring (C7 lies
     // at most 6 mm under the chin ring, often more) takes its front kJawFloorFront of the way
     // from its own to the chin's, times the share of the height (neck ring to chin ring) it lies

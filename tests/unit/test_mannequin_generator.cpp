@@ -791,6 +791,25 @@ TEST(MannequinGenerator, NapeHollowsUnderTheSkull) {
   }
 }
 
+// From its base the back of the neck leans forward through C7 into the nape: C7 stands at least
+// 6 mm (per 1.70 m) in front of the neck ring's back. With C7 2.5–3 mm in front (before
+// 2026-11-29) the back of the neck rose nearly upright to C7 and turned forward there, and from
+// behind its lower part showed as a lit collar under the nape's shade.
+TEST(MannequinGenerator, NeckLeansForwardThroughC7) {
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const auto& lm = mq::topology().landmarks;
+    const double y_neck = v(lm.at("neck_front"), 1), z_c7 = v(lm.at("cervicale"), 2);
+    double neck_back = 1e9;  // the neck ring's back, on the midline
+    for (Eigen::Index i = 0; i < v.rows(); ++i)
+      if (v(i, 0) == 0.0 && v(i, 2) < 0 && std::abs(v(i, 1) - y_neck) < 1e-9) neck_back = std::min(neck_back, v(i, 2));
+    ASSERT_LT(neck_back, 0.0) << to_string(sex);
+    const double cm = 0.01 * d.at("stature") / 1.70;
+    EXPECT_GE(z_c7 - neck_back, 0.6 * cm) << to_string(sex) << ", " << d.at("stature") << " m tall";
+    EXPECT_LE(z_c7 - neck_back, 2.0 * cm) << to_string(sex) << ", " << d.at("stature") << " m tall";
+  }
+}
+
 TEST(MannequinGenerator, ButtocksMeetInACleft) {
   for (const auto& [d, sex] : sample_bodies()) {
     const Vertices v = mq::generate(d, sex);
