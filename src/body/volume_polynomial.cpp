@@ -102,9 +102,8 @@ std::vector<int> owner_corners(const Faces& faces, Eigen::Index vertex_count) {
 // Σ_i S_vi,k · W_vi,lm, where (B β × C β)_i = βᵀ W_vi β sums B_jᵀC_k − B_kᵀC_j over v's faces ((i, j, k)
 // cyclic). The K×K matrices W are summed per owner, and the products with the owners' rows of S
 // are one matrix product per block of owners.
-void add_cubic_terms(const BodyModelData& d, const Eigen::MatrixXd& st, SixVolumeTerms& t) {
+void add_cubic_terms(const BodyModelData& d, const Eigen::MatrixXd& st, const Eigen::MatrixXi& pair, SixVolumeTerms& t) {
   const Eigen::Index k = st.rows(), pairs = k * (k + 1) / 2;
-  const Eigen::MatrixXi pair = pair_columns(k);
   const std::vector<int> corner = owner_corners(d.faces, d.template_vertices.rows());
   std::vector<std::vector<Eigen::Index>> owned(static_cast<size_t>(d.template_vertices.rows()));
   for (Eigen::Index f = 0; f < d.faces.rows(); ++f) owned[static_cast<size_t>(d.faces(f, corner[static_cast<size_t>(f)]))].push_back(f);
@@ -149,13 +148,13 @@ void add_cubic_terms(const BodyModelData& d, const Eigen::MatrixXd& st, SixVolum
 VolumePolynomial::VolumePolynomial(const BodyModel& model) {
   SixVolumeTerms t;
   const Eigen::MatrixXd st = model.data().shape_directions.transpose();  // K×3N
+  const Eigen::MatrixXi pair = pair_columns(st.rows());
   add_lower_terms(model.data(), st, t);
-  add_cubic_terms(model.data(), st, t);
+  add_cubic_terms(model.data(), st, pair, t);
   // Six times the volume above. Symmetrised: the quadratic is (c2 + c2ᵀ)/2; the cubic term of
   // (k, l, m) is the mean of its six orders, (c3(k, {l, m}) + c3(l, {k, m}) + c3(m, {k, l}))/6.
   // The gradient is then c1 + 2·c2·β + 3·c3(β, β, ·).
   const Eigen::Index k = t.c1.size();
-  const Eigen::MatrixXi pair = pair_columns(k);
   constant_ = t.c0 / 6;
   linear_ = t.c1 / 6;
   quadratic_ = (t.c2 + t.c2.transpose()) / 12;

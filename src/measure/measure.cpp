@@ -159,10 +159,10 @@ double measure_with(const BodyModel& model, const MeasurementDefinition& def, co
     }
     case MeasurementKind::Weight: {
       const auto& c = model.data().weight_from_volume;
-      if (!dense) return c.a * signed_volume(rest, model.faces()) + c.b;
+      if (!dense) return c.weight_kg(signed_volume(rest, model.faces()));
       const double volume = signed_volume(rest, model.faces(), *dense);
       *dense *= c.a;
-      return c.a * volume + c.b;
+      return c.weight_kg(volume);
     }
   }
   return 0;
@@ -217,7 +217,7 @@ MeshMeasurements measure_mesh(const Mesh& mesh, const WeightFromVolume& coeffici
     throw Error(ErrorKind::Format, "mesh faces are not consistently oriented: its volume is undefined", "mesh");
   if (m.volume < 0)
     throw Error(ErrorKind::Format, "mesh faces point inwards (negative volume); flip the winding", "mesh");
-  m.weight = coefficients.a * m.volume + coefficients.b;
+  m.weight = coefficients.weight_kg(m.volume);
   return m;
 }
 

@@ -104,7 +104,7 @@ double weight_at(const BodyModel& model, const VolumePolynomial& volume, const E
   const WeightFromVolume& c = model.data().weight_from_volume;
   const double v = volume.value(beta, gradient);
   if (gradient) *gradient *= c.a;
-  return c.a * v + c.b;
+  return c.weight_kg(v);
 }
 
 // `which` measured on the body of β (SI, weight in kg), in the order of `which`: the weight from

@@ -24,6 +24,7 @@ struct WeightFromVolume {
   double a = 1028.94;  // kg per m³
   double b = -3.82;    // kg
   static WeightFromVolume paper(Sex sex);  // female 1001.44/−2.36, male 1056.44/−5.28, neutral their mean
+  double weight_kg(double volume_m3) const { return a * volume_m3 + b; }
 };
 
 // The 24 joints of SMPL, in SMPL's order.
