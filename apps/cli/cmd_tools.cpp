@@ -229,17 +229,17 @@ void register_fidelity(CLI::App& model) {
       std::ostringstream largest;
       largest << std::fixed << std::setprecision(2) << r.max_abs_error_m * 1000 << " mm";
       if (r.target.circumference) largest << " (" << std::setprecision(3) << r.max_abs_error_fraction * 100 << " %)";
-      std::cout << "| " << r.target.measurement << (r.is_target ? "" : " (not a target)") << " | " << std::showpos
+      std::cout << "| " << r.target.measurement << " | " << std::showpos
                 << std::fixed << std::setprecision(2) << r.mean_error_m * 100 << std::noshowpos << " | " << largest.str()
                 << " | " << r.out_of_tolerance << " of " << r.bodies << " | " << r.worst_subject << " |\n";
-      if (r.is_target && r.out_of_tolerance > 0) ++missed_targets;
-      out.push_back({{"measurement", r.target.measurement}, {"ansur_column", r.target.ansur_column}, {"target", r.is_target},
+      if (r.out_of_tolerance > 0) ++missed_targets;
+      out.push_back({{"measurement", r.target.measurement}, {"ansur_column", r.target.ansur_column},
                      {"mean_error_cm", r.mean_error_m * 100}, {"max_abs_error_mm", r.max_abs_error_m * 1000},
                      {"max_abs_error_percent", r.max_abs_error_fraction * 100}, {"out_of_tolerance", r.out_of_tolerance},
                      {"bodies", r.bodies}, {"worst_subject", r.worst_subject}});
     }
-    std::cout << pop.bodies.rows() << " bodies; " << rows.size() - 1 - static_cast<size_t>(missed_targets) << " of "
-              << rows.size() - 1 << " targets within tolerance on every body\n";
+    std::cout << pop.bodies.rows() << " bodies; " << rows.size() - static_cast<size_t>(missed_targets) << " of "
+              << rows.size() << " targets within tolerance on every body\n";
     if (!json->empty()) {
       write_file(*json, out.dump(2) + "\n");
       std::cout << "wrote " << *json << "\n";

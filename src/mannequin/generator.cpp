@@ -30,17 +30,20 @@
 //    or back to reach them; where horizontal sections are measured across tilted rings, those rings
 //    re-sample the same surface so the sections are unchanged.
 //  * Where a circumference is larger than its breadth and depth allow with a plausible profile
-//    (superellipse exponent ≤ 14 for the chest, 5 for the waist), the circumference is kept and
-//    the ring grows: the waist in depth, the chest in breadth and depth by one common factor.
-//    ANSUR chest circumference is large for its chest breadth × depth (C / ellipse perimeter
-//    1.24 on average for men; above the bounding rectangle's perimeter for 435 of 4,082 men):
-//    the chest section may be nearly as square as its bounding box (real chests, with the
-//    latissimus, are), which keeps breadth and depth for all women and about 60 % of men; for
-//    the others sharing the growth keeps both within ±0.5 cm on average (men: breadth +0.40,
-//    depth +0.36 cm; with exponent ≤ 4 and the depth alone growing it was a median +4.4 cm, the
-//    "barrel chest"; docs/mannequin.md). So chest breadth is a fidelity target only where the
-//    chest did not have to grow, and chest depth is not one. The head and hip rings may reach
-//    exponent 10 and 6 so every subject's head length and buttock depth are kept.
+//    (superellipse exponent ≤ 5 for the waist, 6 for the hip, 10 for the head), the
+//    circumference is kept and the ring grows in depth; the head and hip rings' exponents keep
+//    every subject's head length and buttock depth.
+//  * The chest is ANSUR's hard case: its circumference is large for its breadth × depth
+//    (C / ellipse perimeter 1.24 on average for men; above the bounding rectangle's perimeter for
+//    435 of 4,082 men). Chest breadth is taken across the front half of the section
+//    (MeasurementKind::FrontBreadth: a caliper's blades on the chest's sides, in front of the
+//    arms), so the back may be wider. The front rounds into the sides (exponent ≤ kChestP), and
+//    the back squares (≤ kChestBackP) and then flares behind the sides (the latissimus, up to
+//    kChestFlareMax) until the tape is long enough; only where even that falls short do breadth
+//    and depth grow by one common factor (docs/mannequin.md, "The chest"). The section is solved
+//    as sculpt() leaves it, with the chest's relief cut into it. With breadth the section's full
+//    width (until 2026-11-29) every man's chest was as square as its box (exponent up to 14), a
+//    flat panel; with the depth alone growing (until 2026-11-24) it was a barrel.
 //  * Thigh circumference is imposed on a leg ring 3 cm (scaled by stature) below the crotch, or
 //    lower under a seat that drops below it: a horizontal section at ANSUR's level, the gluteal
 //    furrow, would cut the torso.
@@ -103,6 +106,11 @@ enum TorsoKey {
 // the eyes' lids; six rings between the cervicale and the chin let the
 // fairing round the neck and the jaw's border under the chin (make_fairing()).
 constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 3, 3, 1, kHoleRows, 2, 2, 2, 1, 6, 8, 16, 30};
+// The chest's section (plan_body(); generator.cpp's header): its front at most as square as a
+// superellipse of exponent kChestP, so it rounds into the sides instead of standing as a flat
+// panel; the back may square up to kChestBackP and then flare behind the sides by up to
+// kChestFlareMax of the half-breadth before the ring has to grow.
+constexpr double kChestP = 3.5, kChestBackP = 8.0, kChestFlareMax = 0.4;
 // The jaw's lower border rises from the chin to the angle of the jaw: the chin ring's sides are
 // lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
@@ -272,6 +280,11 @@ double blob(double dx, double dy, double rx, double ry) {
   return r2 >= 1 ? 0.0 : (1 - r2) * (1 - r2) * (1 - r2);
 }
 
+// 0 → 1 over [a0, a1], then 1 → 0 over [b0, b1] (each ramp at least 1 mm long).
+double window(double v, double a0, double a1, double b0, double b1) {
+  return smoothstep(a0, std::max(a1, a0 + 1e-3), v) * (1 - smoothstep(b0, std::max(b1, b0 + 1e-3), v));
+}
+
 // ---- Ring shapes -------------------------------------------------------------------------
 struct TorsoRing {
   double y = 0, a = 0.1, df = 0.1, db = 0.1, cz = 0, p = 2.5;
@@ -281,11 +294,17 @@ struct TorsoRing {
   double cleft = 0;                                // the buttocks' cleft at the back's midline: depth (m)
   double nose = 0, chin = 0;                       // face bumps (m)
   double front_taper = 0;  // the front half narrows by this share toward the midline (x × (1 − taper·cos²))
+  // The back half: how much its exponent exceeds p (squarer), and how much wider it grows just
+  // behind the sides (x × (1 + flare·w), w rising from 0 at the side to 1 at cos = −kFlareRise):
+  // the latissimus and the shoulder blades, which make a man's chest wider at the back than
+  // across the front.
+  double back_squareness = 0, flare = 0;
 };
+constexpr double kFlareRise = 0.45;
 
 Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
-  const double s = std::sin(t), c = std::cos(t), e = 2.0 / r.p;
-  double x = r.a * spow(s, e) * (c > 0 ? 1 - r.front_taper * c * c : 1.0);
+  const double s = std::sin(t), c = std::cos(t), e = 2.0 / (c < 0 ? r.p + r.back_squareness : r.p);
+  double x = r.a * spow(s, e) * (c > 0 ? 1 - r.front_taper * c * c : 1 + r.flare * smoothstep(0.0, kFlareRise, -c));
   double z = r.cz + (c >= 0 ? r.df : r.db) * spow(c, e);
   double tt = std::remainder(t, 2 * kPi);  // (−π, π]
   const double at = std::abs(tt);
@@ -337,6 +356,98 @@ void fit_depths(TorsoRing& r, double front, double back) {
   }
 }
 
+// ---- The chest's relief ------------------------------------------------------------------
+// sculpt() draws the chest's features on the lofted surface; on the chest's own section it may
+// only move vertices inward, which shortens the tape and the depth there. The chest's ring is
+// therefore solved with its relief applied (fit_torso_ring), so the section sculpt() leaves has
+// ANSUR's breadth, depth and girth.
+struct ChestFrame {
+  bool female = false;
+  double fem = 0;  // 1 for women, 0 for men, 0.5 for the neutral body
+  double cm = 0;   // one centimetre on a 1.70 m body
+  double y_w = 0, y_us = 0, y_ch = 0, y_ax = 0, y_acr = 0;  // key rings: waist … shoulders' top
+  double a_ch = 0;                                          // the chest's half-breadth
+};
+ChestFrame chest_frame(Sex sex, double sc, double y_w, double y_us, double y_ch, double y_ax, double y_acr) {
+  ChestFrame F;
+  F.female = sex == Sex::Female;
+  F.fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
+  F.cm = 0.01 * sc;
+  F.y_w = y_w; F.y_us = y_us; F.y_ch = y_ch; F.y_ax = y_ax; F.y_acr = y_acr;
+  return F;
+}
+
+// The chest's features (metres, outward) at (x from the midline, height y) of the left half;
+// `front` fades from 1 on the torso's front to 0 at its sides: the groove between the pectorals
+// or breasts, men's pectorals' lower border, women's fold under each breast and the breasts'
+// upper slope.
+void add_chest_relief(const ChestFrame& F, double x, double y, double front, double& h) {
+  const double cm = F.cm;
+  // Groove between the pectorals / breasts, running on as the linea alba to the navel.
+  const double g = F.female ? 0.75 * cm : 0.90 * cm;
+  const double along = window(y, F.y_w + 2 * cm, F.y_us, F.y_acr - 8 * cm, F.y_acr - 2.5 * cm);
+  const double upper = smoothstep(F.y_us - 3 * cm, F.y_us + 4 * cm, y);
+  h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, F.female ? 4.5 : 5.0, upper) * cm, 1);
+  // Men: the pectorals' lower border, rising from the sternum to the armpit.
+  if (!F.female) {
+    // Shallow and wide: 1.1 cm deep, rising over 2.6 cm above, it drew a line across the chest.
+    const double amp = (1 - F.fem) * 0.9 * cm;
+    const double yb = F.y_ch - 3.2 * cm + 6.5 * cm * sq(x / F.a_ch);
+    const double dy = y - yb;
+    const double prof = dy > 0 ? blob(dy, 0, 3.5 * cm, 1) : blob(dy, 0, 6.0 * cm, 1);
+    h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * F.a_ch, 0.9 * F.a_ch);
+  }
+  // Women: the fold under each breast.
+  if (F.fem > 0) {
+    const double xb = 0.62 * F.a_ch;
+    const double yb = F.y_ch - 7.0 * cm + 2.5 * cm * sq((x - xb) / (0.45 * F.a_ch));
+    const double dy = y - yb;
+    const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
+    h -= front * F.fem * 0.6 * cm * prof * blob(x - xb, 0, 0.6 * F.a_ch, 1);
+  }
+  // Women: the breasts' upper slope eases into the upper chest (the lofted profile bends
+  // there, a line across the chest).
+  if (F.fem > 0)
+    h += front * F.fem * 0.45 * cm * blob(x - 0.55 * F.a_ch, y - (F.y_ax - 0.5 * cm), 0.7 * F.a_ch, 3.5 * cm);
+}
+
+// How much of the torso's relief a point at angle t round its ring carries as the front's (1
+// on the front, 0 from the sides back; torso_relief()).
+double front_share(double t) { return smoothstep(0.25, 0.65, std::cos(t)); }
+
+// The ring's polygon as sculpt() leaves it on the chest's section: each point moved along the
+// ring's outward normal by the inward part of the chest's relief there (none without a frame).
+std::vector<Eigen::Vector2d> section_polygon(const TorsoRing& r, const ChestFrame* relief) {
+  std::vector<Eigen::Vector2d> pts = torso_polygon(r);
+  if (!relief) return pts;
+  ChestFrame f = *relief;
+  f.a_ch = r.a;
+  std::vector<Eigen::Vector2d> out(pts.size());
+  const size_t n = pts.size();
+  for (size_t j = 0; j < n; ++j) {
+    const Eigen::Vector2d tangent = pts[(j + 1) % n] - pts[(j + n - 1) % n];
+    const Eigen::Vector2d outward = Eigen::Vector2d(-tangent.y(), tangent.x()).normalized();
+    double h = 0;
+    add_chest_relief(f, std::abs(pts[j].x()), r.y, front_share(2 * kPi * static_cast<double>(j) / kTorsoN), h);
+    out[j] = pts[j] + std::min(h, 0.0) * outward;
+  }
+  return out;
+}
+
+// fit_depths() for the section sculpt() leaves: the relief's loss at the front and back is
+// measured and asked for on top (it hardly depends on the depths, so a few rounds settle it).
+void fit_section_depths(TorsoRing& r, double front, double back, const ChestFrame* relief) {
+  double extra_front = 0, extra_back = 0;
+  for (int round = 0;; ++round) {
+    fit_depths(r, front + extra_front, back + extra_back);
+    if (!relief || round == 3) return;
+    double f = -1e9, b = -1e9;
+    for (const auto& q : section_polygon(r, relief)) { f = std::max(f, q.y() - r.cz); b = std::max(b, r.cz - q.y()); }
+    extra_front += front - f;
+    extra_back += back - b;
+  }
+}
+
 // The skull above the glabella ring: a quarter-superellipse of exponent kDomeE in profile, at
 // superellipse angle th (0: the glabella ring, π/2: the vertex). With 2, a quarter-ellipse, the
 // forehead slopes back from the brow and the crown comes to a point (an egg); a real forehead
@@ -354,40 +465,53 @@ TorsoRing dome_ring(const TorsoRing& glabella, double vertex_y, double hs, doubl
 // How a ring too small for its circumference grows (the circumference is always kept).
 enum class Growth { Depth, BreadthAndDepth };
 
-// Solves the ring so breadth = 2a, depth = front + back, hull perimeter = circumference.
-// Returns the depth actually used (larger than asked if the circumference needs it).
-double fit_torso_ring(TorsoRing& r, double breadth, double depth, double front_fraction, double circumference,
-                      double p_min = 1.7, double p_max = 4.5, Growth growth = Growth::Depth) {
+// The profiles a ring may take to reach its circumference, in the order they are tried: the
+// exponent p from p_min up to p_max; then (the chest) the back half squarer, up to p_back_max,
+// and wider just behind the sides, by up to flare_max; then it grows (`growth`).
+struct RingFit {
+  double p_min = 1.7, p_max = 4.5;
+  Growth growth = Growth::Depth;
+  double p_back_max = 0, flare_max = 0;
+  const ChestFrame* relief = nullptr;  // solve for the section sculpt() leaves (the chest)
+};
+
+// Solves the ring so its section has breadth 2a (across its front half: the back may flare),
+// depth front + back and hull perimeter = circumference.
+void fit_torso_ring(TorsoRing& r, double breadth, double depth, double front_fraction, double circumference,
+                    const RingFit& fit) {
   r.a = breadth / 2;
-  auto perimeter_at = [&](double p, double d) {
-    r.p = p;
-    fit_depths(r, front_fraction * d, (1 - front_fraction) * d);
-    return convex_hull_perimeter(torso_polygon(r));
+  r.p = fit.p_min;
+  r.back_squareness = r.flare = 0;
+  auto perimeter = [&](double d) {
+    fit_section_depths(r, front_fraction * d, (1 - front_fraction) * d, fit.relief);
+    return convex_hull_perimeter(section_polygon(r, fit.relief));
   };
-  if (perimeter_at(p_max, depth) < circumference) {
-    // Infeasible for the profile family: grow the depth, or breadth and depth by one factor.
-    const bool both = growth == Growth::BreadthAndDepth;
-    double lo = 1, hi = 2;
+  // Bisects `param` over [lo, hi] for the circumference; false (param = hi) if hi falls short.
+  auto solve = [&](double& param, double lo, double hi) {
+    param = hi;
+    if (perimeter(depth) < circumference) return false;
     for (int it = 0; it < 40; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      if (both) r.a = mid * breadth / 2;
-      (perimeter_at(p_max, mid * depth) < circumference ? lo : hi) = mid;
+      param = 0.5 * (lo + hi);
+      (perimeter(depth) < circumference ? lo : hi) = param;
     }
-    if (both) r.a = hi * breadth / 2;
-    perimeter_at(p_max, hi * depth);
-    return hi * depth;
-  }
-  double lo = p_min, hi = p_max;
-  if (perimeter_at(p_min, depth) > circumference) {
-    perimeter_at(p_min, depth);
-    return depth;
-  }
+    param = 0.5 * (lo + hi);
+    perimeter(depth);
+    return true;
+  };
+  if (perimeter(depth) > circumference) return;  // rounder than p_min allows: keep p_min
+  if (solve(r.p, fit.p_min, fit.p_max)) return;
+  if (fit.p_back_max > fit.p_max && solve(r.back_squareness, 0, fit.p_back_max - fit.p_max)) return;
+  if (fit.flare_max > 0 && solve(r.flare, 0, fit.flare_max)) return;
+  // Infeasible for the profile family: grow the depth, or breadth and depth by one factor.
+  const bool both = fit.growth == Growth::BreadthAndDepth;
+  double lo = 1, hi = 2;
   for (int it = 0; it < 40; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (perimeter_at(mid, depth) < circumference ? lo : hi) = mid;
+    if (both) r.a = mid * breadth / 2;
+    (perimeter(mid * depth) < circumference ? lo : hi) = mid;
   }
-  perimeter_at(0.5 * (lo + hi), depth);
-  return depth;
+  if (both) r.a = hi * breadth / 2;
+  perimeter(hi * depth);
 }
 
 struct LegRing {
@@ -951,7 +1075,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // The cleft between the buttocks, solved with the ring: the cheeks beside it carry the depth,
     // and the hull (the tape) bridges it. The rings below down to the bottom ring keep it full.
     r.cleft = kCleftDepth * d.bd / 0.24;
-    fit_torso_ring(r, d.hb, d.bd, hip_front, d.bc, 1.7, 6.0);
+    fit_torso_ring(r, d.hb, d.bd, hip_front, d.bc, {.p_min = 1.7, .p_max = 6.0});
   }
   {
     TorsoRing& r = K[kWaist];
@@ -962,7 +1086,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double rounded_off = smoothstep(0.0, 0.10 * sc, y_w - y_hip);
     r.glute = K[kHip].glute * (1 - rounded_off);
     r.cleft = K[kHip].cleft * (1 - rounded_off);
-    fit_torso_ring(r, d.wb, d.wd, waist_front, d.wc, 1.7, 5.0);
+    fit_torso_ring(r, d.wb, d.wd, waist_front, d.wc, {.p_min = 1.7, .p_max = 5.0});
   }
   {
     TorsoRing& r = K[kChest];
@@ -971,7 +1095,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     if (female) { r.bust = 0.085 * d.cd; r.bust_t = 0.72; r.bust_w = 0.44; }
     else if (sex == Sex::Male) { r.bust = 0.025 * d.cd; r.bust_t = 0.65; r.bust_w = 0.5; }
     else { r.bust = 0.05 * d.cd; r.bust_t = 0.7; r.bust_w = 0.42; }
-    fit_torso_ring(r, d.cb, d.cd, female ? 0.56 : 0.5, d.cc, 1.7, 14.0, Growth::BreadthAndDepth);  // header: chest
+    const ChestFrame relief = chest_frame(sex, sc, y_w, y_us, y_ch, y_ax, y_acr);
+    fit_torso_ring(r, d.cb, d.cd, female ? 0.56 : 0.5, d.cc,
+                   {.p_min = 1.7, .p_max = kChestP, .growth = Growth::BreadthAndDepth, .p_back_max = kChestBackP,
+                    .flare_max = kChestFlareMax, .relief = &relief});  // header: chest
   }
   const double a_sh = std::min(d.biac / 2 - 0.034 * sc, std::max(K[kChest].a * 1.0, d.biac / 2 - 0.05 * sc));
   {
@@ -995,6 +1122,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.p = std::min(0.5 * (K[kWaist].p + K[kChest].p), 3.5);
     r.glute = 0;
     r.cleft = 0;
+    // The back keeps most of the chest's flare down to here, so from behind it widens nearly
+    // straight from the waist to the armpits (at half, it bulged out just under the chest ring).
+    r.flare = 0.85 * K[kChest].flare;
     K[kUnderBust] = r;
     r = K[kChest];
     r.y = y_ax;
@@ -1003,6 +1133,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.df = K[kChest].df * (female ? 0.8 : 0.98);
     r.db = K[kChest].db * 0.98;
     r.p = std::max(2.6, K[kChest].p - 0.2);  // no crease at the chest ring's corners
+    // Under the arm the back stays flared, but within 2.5 cm of the acromion: the arm's root
+    // follows the armpit hole's rim out, and the biacromial breadth is exact only while it stays
+    // inside the acromion.
+    r.flare = std::min(r.flare, std::max(0.0, (d.biac / 2 - 0.025 * sc) / r.a - 1));
     K[kAxilla] = r;
     K[kArmpit].y = y_ap;  // a level only: its ring takes the profile's shape
     r.y = y_acr;
@@ -1019,6 +1153,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // chest depth alone it stood behind it on many women, and the back turned forward into the
     // neck along one ring, a ledge across the back from shoulder to shoulder.
     r.db = std::min(r.db, r.cz - (K[kAxilla].cz - K[kAxilla].db + 0.01 * sc));
+    r.flare = r.back_squareness = 0;  // round at the shoulders' top, back and front alike
     K[kHoleTop] = r;
   }
   const double neck_r = d.neckc / (2 * kPi);
@@ -1111,7 +1246,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     K[kMouth] = r;
     TorsoRing g;
     g.y = y_g; g.cz = head_cz;
-    fit_torso_ring(g, d.headb, d.headl, 0.48, d.headc, 1.8, 10.0);
+    fit_torso_ring(g, d.headb, d.headl, 0.48, d.headc, {.p_min = 1.8, .p_max = 10.0});
     K[kGlabella] = g;
     // At the nose the skull's back is nearly as full as at the glabella (the occiput rounds off
     // below it), or the back of the head shows a groove under the glabella ring.
@@ -1122,7 +1257,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   }
 
   // Ring levels between keys, then monotone interpolation of every parameter over y.
-  std::vector<double> ky, ka, kdf, kdb, kcz, kp, kbust, kglute, kcleft, knose, kchin, kfront_taper;
+  std::vector<double> ky, ka, kdf, kdb, kcz, kp, kbust, kglute, kcleft, knose, kchin, kfront_taper, kflare, kback_squareness;
   for (int key = 0; key < kTorsoKeyCount; ++key) {
     // The iliocristale ring is a level, not a shape: a duplicate knot there would flatten the
     // profile into a visible band.
@@ -1130,7 +1265,8 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const TorsoRing& r = K[static_cast<size_t>(key)];
     ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db); kcz.push_back(r.cz);
     kp.push_back(r.p); kbust.push_back(r.bust); kglute.push_back(r.glute); kcleft.push_back(r.cleft);
-    knose.push_back(r.nose); kchin.push_back(r.chin); kfront_taper.push_back(r.front_taper);
+    knose.push_back(r.nose); kchin.push_back(r.chin); kfront_taper.push_back(r.front_taper); kflare.push_back(r.flare);
+    kback_squareness.push_back(r.back_squareness);
   }
   // A knot on the dome (as the dome rings below compute it) gives the head's profile a level
   // tangent at the glabella ring, its widest: the face rings meet the dome without a band.
@@ -1138,11 +1274,11 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const TorsoRing r = dome_ring(K[kGlabella], d.S, hs, std::asin(std::pow(0.3, kDomeE / 2)));
     ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db);
     kcz.push_back(r.cz); kp.push_back(r.p); kbust.push_back(0); kglute.push_back(0); kcleft.push_back(0);
-    knose.push_back(0); kchin.push_back(0); kfront_taper.push_back(0);
+    knose.push_back(0); kchin.push_back(0); kfront_taper.push_back(0); kflare.push_back(0); kback_squareness.push_back(0);
   }
   // The bust needs its own profile: fuller below the apex, fading toward the axilla.
   const MonotoneCurve ca(ky, ka), cdf(ky, kdf), cdb(ky, kdb), ccz(ky, kcz), cp(ky, kp), cglute(ky, kglute),
-      ccleft(ky, kcleft), cnose(ky, knose), cchin(ky, kchin), cfront_taper(ky, kfront_taper);
+      ccleft(ky, kcleft), cnose(ky, knose), cchin(ky, kchin), cfront_taper(ky, kfront_taper), cflare(ky, kflare), cback_squareness(ky, kback_squareness);
   const double bust = K[kChest].bust;
   const MonotoneCurve cbust({std::min(y_ic, y_ch - 0.1 * sc), y_ch - 0.085 * sc, y_ch - 0.045 * sc, y_ch, y_ch + 0.05 * sc, y_ax, y_acr},
                             {0, 0.05 * bust, 0.7 * bust, bust, 0.6 * bust, 0.25 * bust, 0});
@@ -1160,6 +1296,8 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.y = y; r.a = ca(y); r.df = cdf(y); r.db = cdb(y); r.cz = ccz(y); r.p = cp(y);
     r.bust = cbust(y); r.bust_t = bust_t; r.bust_w = bust_w;
     r.glute = cglute(y); r.cleft = ccleft(y); r.nose = cnose(y); r.chin = cchin(y); r.front_taper = cfront_taper(y);
+    r.flare = cflare(y);
+    r.back_squareness = cback_squareness(y);
     return r;
   };
   for (int key = 0; key + 1 < kTorsoKeyCount; ++key) {
@@ -2450,11 +2588,6 @@ void fair(std::vector<Vec3>& v, double hole_bottom_share) {
 // The left half is computed and mirrored, so bodies stay exactly symmetric.
 namespace {
 
-// 0 → 1 over [a0, a1], then 1 → 0 over [b0, b1] (each ramp at least 1 mm long).
-double window(double v, double a0, double a1, double b0, double b1) {
-  return smoothstep(a0, std::max(a1, a0 + 1e-3), v) * (1 - smoothstep(b0, std::max(b1, b0 + 1e-3), v));
-}
-
 // A grid of vertex ids (rings × columns, −1 = none) with its triangulation's neighbours.
 struct Grid {
   const std::vector<std::vector<int>>* ids;
@@ -2732,14 +2865,11 @@ void place_fine(Builder& B) {
 
 // -- The relief of torso, neck and head (sculpt()).
 // Where one body's relief goes: its key levels and breadths, and its units, from its plan.
-struct ReliefFrame {
-  bool female = false;
-  double fem = 0;  // 1 for women, 0 for men, 0.5 for the neutral body
-  double cm = 0;   // one centimetre on a 1.70 m body
-  HeadFrame H;     // the face's own units (head centimetres)
-  double y_hip = 0, y_w = 0, y_us = 0, y_ch = 0, y_ax = 0, y_acr = 0, y_s2 = 0, y_nk = 0, y_cv = 0;  // key rings
-  double y_gf = 0, y_crotch = 0;         // the gluteal furrow, the crotch
-  double a_ch = 0, a_sh = 0, a_hip = 0;  // half-breadths: chest, shoulders' top, hip
+struct ReliefFrame : ChestFrame {
+  HeadFrame H;  // the face's own units (head centimetres)
+  double y_hip = 0, y_s2 = 0, y_nk = 0, y_cv = 0;  // more key rings
+  double y_gf = 0, y_crotch = 0;  // the gluteal furrow, the crotch
+  double a_sh = 0, a_hip = 0;     // half-breadths: shoulders' top, hip
   double thigh_out = 0;                  // the thigh's outer side at its girth ring
   // The iliac crest's front (its anterior spine), (x, y); and the groin's fold, from the thigh's
   // inner front beside the crotch up and out to it.
@@ -2751,18 +2881,11 @@ struct ReliefFrame {
 
 ReliefFrame relief_frame(const BodyPlan& P, const Dims& d, Sex sex, const Builder& B) {
   ReliefFrame F;
-  F.female = sex == Sex::Female;
-  F.fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
-  const double sc = d.S / 1.70;
-  F.cm = 0.01 * sc;
-  F.H = head_frame(P, d);
   auto ring_y = [&](int key) { return P.torso[static_cast<size_t>(torso_key_ring(key))].y; };
+  static_cast<ChestFrame&>(F) =
+      chest_frame(sex, d.S / 1.70, ring_y(kWaist), ring_y(kUnderBust), ring_y(kChest), ring_y(kAxilla), ring_y(kHoleTop));
+  F.H = head_frame(P, d);
   F.y_hip = ring_y(kHip);
-  F.y_w = ring_y(kWaist);
-  F.y_us = ring_y(kUnderBust);
-  F.y_ch = ring_y(kChest);
-  F.y_ax = ring_y(kAxilla);
-  F.y_acr = ring_y(kHoleTop);
   F.y_s2 = ring_y(kShoulder2);
   F.y_nk = ring_y(kNeck);
   F.y_cv = ring_y(kCervicale);
@@ -2801,28 +2924,7 @@ void add_head_relief(const ReliefFrame& F, const BodyPlan& P, const Vec3& p, int
 // the rib cage's lower border, the iliac crest's front, the groin, the navel.
 void add_front_relief(const ReliefFrame& F, double x, double y, double front, double& h) {
   const double cm = F.cm;
-  // Groove between the pectorals / breasts, running on as the linea alba to the navel.
-  const double g = F.female ? 0.75 * cm : 0.90 * cm;
-  const double along = window(y, F.y_w + 2 * cm, F.y_us, F.y_acr - 8 * cm, F.y_acr - 2.5 * cm);
-  const double upper = smoothstep(F.y_us - 3 * cm, F.y_us + 4 * cm, y);
-  h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, F.female ? 4.5 : 5.0, upper) * cm, 1);
-  // Men: the pectorals' lower border, rising from the sternum to the armpit.
-  if (!F.female) {
-    // Shallow and wide: 1.1 cm deep, rising over 2.6 cm above, it drew a line across the chest.
-    const double amp = (1 - F.fem) * 0.9 * cm;
-    const double yb = F.y_ch - 3.2 * cm + 6.5 * cm * sq(x / F.a_ch);
-    const double dy = y - yb;
-    const double prof = dy > 0 ? blob(dy, 0, 3.5 * cm, 1) : blob(dy, 0, 6.0 * cm, 1);
-    h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * F.a_ch, 0.9 * F.a_ch);
-  }
-  // Women: the fold under each breast.
-  if (F.fem > 0) {
-    const double xb = 0.62 * F.a_ch;
-    const double yb = F.y_ch - 7.0 * cm + 2.5 * cm * sq((x - xb) / (0.45 * F.a_ch));
-    const double dy = y - yb;
-    const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.5 * cm, 1);
-    h -= front * F.fem * 0.6 * cm * prof * blob(x - xb, 0, 0.6 * F.a_ch, 1);
-  }
+  add_chest_relief(F, x, y, front, h);
   // Clavicles: a ridge from the sternum to the shoulder, hollows above and below it.
   const double x0 = 1.8 * cm, x1 = F.a_sh - 4.0 * cm;
   if (x1 > x0) {
@@ -2834,10 +2936,6 @@ void add_front_relief(const ReliefFrame& F, double x, double y, double front, do
          (1 - smoothstep(F.y_nk - 2.5 * cm, F.y_nk - 0.5 * cm, y));  // not into the neck's girth
     h -= front * 0.30 * cm * blob(x - (x0 + 0.7 * (x1 - x0)), y - (ycl - 3.2 * cm), 0.3 * (x1 - x0), 1.8 * cm);
   }
-  // Women: the breasts' upper slope eases into the upper chest (the lofted profile bends
-  // there, a line across the chest).
-  if (F.fem > 0)
-    h += front * F.fem * 0.45 * cm * blob(x - 0.55 * F.a_ch, y - (F.y_ax - 0.5 * cm), 0.7 * F.a_ch, 3.5 * cm);
   // The rib cage's lower border: an inverted V from the sternum's tip out to the flanks,
   // the belly below it a little hollow.
   {
@@ -3101,7 +3199,7 @@ void sculpt(const BodyPlan& P, const Dims& d, Sex sex, Builder& B) {
   });
   for (size_t i = 0; i < v.size(); ++i)
     D[i] = girth_only[i] ? 0.0 : (on[i] ? std::min(D[i], 0.0) : D[i]) + ridge[i];
-  const std::set<std::string> height_only = {"chest_front", "neck_front", "knee_left", "knee_right",
+  const std::set<std::string> height_only = {"chest_front", "thelion_left", "thelion_right", "neck_front", "knee_left", "knee_right",
                                              "lateral_malleolus_left", "lateral_malleolus_right"};
   for (const auto& [name, id] : B.landmarks)
     if (!height_only.count(name)) D[static_cast<size_t>(id)] = 0;
@@ -3572,7 +3670,7 @@ std::vector<MeasurementDefinition> measurement_definitions() {
   add("knee_height", K::Height, {"knee_right"}, Y, "Floor to mid-patella");
   add("lateral_malleolus_height", K::Height, {"lateral_malleolus_right"}, Y, "Floor to the lateral malleolus");
   add("biacromial_breadth", K::Length, {"acromion_left", "acromion_right"}, Y, "Acromion to acromion");
-  add("chest_breadth", K::Breadth, {"chest_front"}, Y, "Chest breadth at bust-point height");
+  add("chest_breadth", K::FrontBreadth, {"chest_front"}, Y, "Chest breadth at bust-point height, across the front");
   add("chest_depth", K::Depth, {"chest_front"}, Y, "Chest depth at bust-point height");
   add("waist_breadth", K::Breadth, {"omphalion"}, Y, "Waist breadth at the navel");
   add("waist_depth", K::Depth, {"omphalion"}, Y, "Waist depth at the navel");
@@ -3613,7 +3711,7 @@ std::vector<FidelityTarget> fidelity_targets() {
       {"iliocristale_height", "iliocristaleheight", false}, {"trochanterion_height", "trochanterionheight", false},
       {"buttock_height", "buttockheight", false}, {"knee_height", "kneeheightmidpatella", false},
       {"lateral_malleolus_height", "lateralmalleolusheight", false}, {"biacromial_breadth", "biacromialbreadth", false},
-      {"chest_breadth", "chestbreadth", false},  // chest_depth: not a target (see header comment)
+      {"chest_breadth", "chestbreadth", false}, {"chest_depth", "chestdepth", false},
       {"waist_breadth", "waistbreadth", false}, {"waist_depth", "waistdepth", false}, {"hip_breadth", "hipbreadth", false},
       {"buttock_depth", "buttockdepth", false}, {"span", "span", false}, {"hand_length", "handlength", false},
       {"hand_breadth", "handbreadth", false}, {"foot_length", "footlength", false},

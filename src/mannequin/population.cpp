@@ -359,14 +359,11 @@ BodyModel measuring_model(const Vertices& body, Sex sex) {
 
 std::vector<TargetFidelity> survey_fidelity(const GeneratedPopulation& pop, int threads) {
   std::vector<TargetFidelity> rows;
-  auto row_for = [&](const FidelityTarget& t, bool is_target) {
+  for (const FidelityTarget& t : fidelity_targets()) {
     TargetFidelity row;
     row.target = t;
-    row.is_target = is_target;
     rows.push_back(row);
-  };
-  for (const FidelityTarget& t : fidelity_targets()) row_for(t, true);
-  row_for({"chest_depth", "chestdepth", false}, false);  // reported, not a target
+  }
   const std::vector<MeasurementDefinition> all = measurement_definitions();
   std::vector<MeasurementDefinition> definitions;
   for (const TargetFidelity& row : rows) {

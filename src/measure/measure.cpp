@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "caliper/body/mesh.h"
@@ -79,6 +80,46 @@ void add_section_point_gradient(const SectionPoint& s, const Eigen::Vector3d& g,
   terms.push_back({landmark, -n * (ge / denom)});
 }
 
+// A front breadth (MeasurementKind::FrontBreadth): the loop's extent along X over its part in
+// front of the middle of its depth, z ≥ mid. Each extreme is a loop point there or the point
+// where a loop edge crosses z = mid; there x = x_a + u·(x_b − x_a), u = (mid − z_a)/(z_b − z_a),
+// so it moves with both edge ends and, through mid, with the loop's front and back points.
+double front_breadth(const SectionLoop& loop, const Eigen::Vector3d& n, int landmark, const Vertices& rest,
+                     std::vector<GradientTerm>* gradient) {
+  constexpr int X = 0, Z = 2;
+  size_t back = 0, front = 0;
+  for (size_t i = 1; i < loop.size(); ++i) {
+    if (loop[i].q(Z) < loop[back].q(Z)) back = i;
+    if (loop[i].q(Z) > loop[front].q(Z)) front = i;
+  }
+  const double mid = 0.5 * (loop[back].q(Z) + loop[front].q(Z));
+  struct Extreme { size_t a = 0, b = 0; double u = 0, x = 0; };
+  std::optional<Extreme> lo, hi;
+  auto consider = [&](size_t a, size_t b, double u) {
+    const double x = loop[a].q(X) + u * (loop[b].q(X) - loop[a].q(X));
+    if (!lo || x < lo->x) lo = Extreme{a, b, u, x};
+    if (!hi || x > hi->x) hi = Extreme{a, b, u, x};
+  };
+  for (size_t a = 0; a < loop.size(); ++a) {
+    const size_t b = (a + 1) % loop.size();
+    const double za = loop[a].q(Z), zb = loop[b].q(Z);
+    if (za >= mid) consider(a, a, 0.0);
+    if ((za - mid) * (zb - mid) < 0) consider(a, b, (mid - za) / (zb - za));
+  }
+  if (gradient) {
+    const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ez = Eigen::Vector3d::UnitZ();
+    for (const auto& [e, sign] : {std::pair{*hi, 1.0}, std::pair{*lo, -1.0}}) {
+      const SectionPoint &pa = loop[e.a], &pb = loop[e.b];
+      if (e.a == e.b) { add_section_point_gradient(pa, sign * ex, n, landmark, rest, *gradient); continue; }
+      const double dz = pb.q(Z) - pa.q(Z), dx = pb.q(X) - pa.q(X);
+      add_section_point_gradient(pa, sign * ((1 - e.u) * ex - dx * (pb.q(Z) - mid) / (dz * dz) * ez), n, landmark, rest, *gradient);
+      add_section_point_gradient(pb, sign * (e.u * ex - dx * (mid - pa.q(Z)) / (dz * dz) * ez), n, landmark, rest, *gradient);
+      for (size_t extreme : {front, back}) add_section_point_gradient(loop[extreme], sign * 0.5 * dx / dz * ez, n, landmark, rest, *gradient);
+    }
+  }
+  return hi->x - lo->x;
+}
+
 // The value of `def` on `rest`; with `gradient`, also ∂value/∂v as sparse terms (exact wherever
 // the value is differentiable; at a tie the extreme point found first), or for weight in `dense`.
 double measure_with(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
@@ -129,6 +170,12 @@ double measure_with(const BodyModel& model, const MeasurementDefinition& def, co
         add_section_point_gradient(loop[lo], -e, n, landmark, rest, *gradient);
       }
       return loop[hi].q(axis) - loop[lo].q(axis);
+    }
+    case MeasurementKind::FrontBreadth: {
+      if (def.plane_normal != Axis::Y)
+        throw Error(ErrorKind::Format, "measurement '" + def.name + "': a front breadth needs a horizontal section (plane_normal y)", def.name);
+      const SectionLoop& loop = cached_loop(model, def, rest, section_faces, cache, own);
+      return front_breadth(loop, axis_vector(def.plane_normal), model.landmark(def.landmarks[0]), rest, gradient);
     }
     case MeasurementKind::Circumference: {
       // A tape measure follows the convex hull of the section (paper §3.4.2).

@@ -57,6 +57,7 @@ double default_noise_sd(const BodyModel& model, const std::string& measurement, 
     case MeasurementKind::Height:
     case MeasurementKind::Length: return 0.015;
     case MeasurementKind::Breadth:
+    case MeasurementKind::FrontBreadth:
     case MeasurementKind::Depth: return 0.010;
     case MeasurementKind::Circumference: return setting == NoiseSetting::Self ? 0.015 : 0.010;
   }
@@ -158,7 +159,8 @@ Eigen::MatrixXd measurement_jacobian(const BodyModel& model, const VolumePolynom
 std::pair<const char*, const char*> comparatives(MeasurementKind kind) {
   switch (kind) {
     case MeasurementKind::Weight: return {"heavier", "lighter"};
-    case MeasurementKind::Breadth: return {"wider", "narrower"};
+    case MeasurementKind::Breadth:
+    case MeasurementKind::FrontBreadth: return {"wider", "narrower"};
     case MeasurementKind::Depth: return {"deeper", "shallower"};
     case MeasurementKind::Circumference: return {"larger", "smaller"};
     default: return {"longer", "shorter"};

@@ -70,6 +70,7 @@ CornerDesign build_corner_design(const BodyModel& model, const std::vector<std::
   for (size_t m = 0; m < defs.size(); ++m) {
     const auto& def = *defs[m];
     const bool section = def.kind == MeasurementKind::Breadth || def.kind == MeasurementKind::Depth ||
+                         def.kind == MeasurementKind::FrontBreadth ||
                          def.kind == MeasurementKind::Circumference;
     if (!section || def.plane_normal != Axis::Y || def.landmarks.empty()) continue;
     const Vertices& t = model.data().template_vertices;

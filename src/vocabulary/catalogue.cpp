@@ -33,7 +33,7 @@ const std::vector<MeasurementInfo>& measurement_catalogue() {
       length("chest_height", 40, 200, {"nipple_height"}, "chestheight", "Chest height (floor to nipple / bust point)", true),
       length("waist_height", 30, 160, {"navel_height", "waist_height_omphalion"}, "waistheightomphalion", "Waist height at the navel (omphalion)", true),
       length("biacromial_breadth", 15, 70, {"shoulder_width"}, "biacromialbreadth", "Shoulder width, acromion to acromion", true),
-      length("chest_breadth", 10, 70, {"chest_width"}, "chestbreadth", "Chest breadth at nipple height", true),
+      length("chest_breadth", 10, 70, {"chest_width"}, "chestbreadth", "Chest breadth at nipple height, across the front (between the arms)", true),
       length("waist_breadth", 10, 80, {"waist_width"}, "waistbreadth", "Waist breadth at navel height", true),
       length("waist_depth", 8, 70, {"torso_depth"}, "waistdepth", "Waist (torso) depth at navel height", true),
       length("wrist_span", 40, 230, {"arm_span_wrists"}, "", "Arm span, wrist to wrist", true),

@@ -10,6 +10,7 @@ const char* to_string(MeasurementKind kind) {
     case MeasurementKind::Length: return "length";
     case MeasurementKind::Breadth: return "breadth";
     case MeasurementKind::Depth: return "depth";
+    case MeasurementKind::FrontBreadth: return "front_breadth";
     case MeasurementKind::Circumference: return "circumference";
     case MeasurementKind::Weight: return "weight";
   }
@@ -18,10 +19,11 @@ const char* to_string(MeasurementKind kind) {
 
 MeasurementKind parse_measurement_kind(const std::string& text) {
   for (auto k : {MeasurementKind::Height, MeasurementKind::Length, MeasurementKind::Breadth,
-                 MeasurementKind::Depth, MeasurementKind::Circumference, MeasurementKind::Weight})
+                 MeasurementKind::Depth, MeasurementKind::FrontBreadth, MeasurementKind::Circumference,
+                 MeasurementKind::Weight})
     if (text == to_string(k)) return k;
   throw Error(ErrorKind::Format,
-              "unknown measurement kind '" + text + "' (height, length, breadth, depth, circumference, weight)", "kind");
+              "unknown measurement kind '" + text + "' (height, length, breadth, depth, front_breadth, circumference, weight)", "kind");
 }
 
 const char* to_string(Axis axis) {

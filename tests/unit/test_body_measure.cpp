@@ -2,6 +2,8 @@
 // known exactly (every coordinate is linear in β).
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <nlohmann/json.hpp>
 
 #include "fixtures.h"
@@ -103,6 +105,59 @@ TEST(Measure, ToyModelExactValues) {
   EXPECT_NEAR(all["waist_depth"], 0.30, 1e-9);    // and at 90°, 270°
   const double area = 0.5 * 24 * 0.15 * 0.15 * std::sin(2 * M_PI / 24);
   EXPECT_NEAR(all["weight"], 1000 * area * 1.7, 1e-9);
+}
+
+// A chest wider at the back than across its front (the latissimus behind the arms): the toy
+// prism's rings reshaped to a hexagon whose front corners stand 6 cm apart at z = +2 cm, its
+// sides at ±4 cm at z = −0.5 cm and its back corners 10 cm apart at z = −2 cm. The section's
+// depth is 4 cm, its middle z = 0; the front half's widest points are where the side edges cross
+// z = 0, a fifth of the way from (±4, −0.5) to (±3, 2): x = ±3.8 cm.
+TEST(Measure, FrontBreadthIsTheFrontHalfsWidth) {
+  BodyModelData d = test::toy_model(6, 9).data();
+  const std::array<Eigen::Vector2d, 6> corner = {{{0.04, -0.005}, {0.03, 0.02}, {-0.03, 0.02},
+                                                  {-0.04, -0.005}, {-0.05, -0.02}, {0.05, -0.02}}};
+  for (int ring = 0; ring < 9; ++ring)
+    for (int k = 0; k < 6; ++k) {
+      d.template_vertices(ring * 6 + k, 0) = corner[static_cast<size_t>(k)].x();
+      d.template_vertices(ring * 6 + k, 2) = corner[static_cast<size_t>(k)].y();
+    }
+  d.measurements = {{"chest_breadth", MeasurementKind::FrontBreadth, {"waist_side"}, Axis::Y, "front half"},
+                    {"waist_breadth", MeasurementKind::Breadth, {"waist_side"}, Axis::Y, "whole"}};
+  const BodyModel m(std::move(d));
+  auto all = measure_all(m, m.data().template_vertices);
+  EXPECT_NEAR(all["chest_breadth"], 0.076, 1e-12);
+  EXPECT_NEAR(all["waist_breadth"], 0.10, 1e-12);
+  // Its gradient against central differences, moving each corner of the measured ring across
+  // (x) and front to back (z): the crossing points move with both ends of their edges and, through
+  // the middle of the depth, with the front and back corners. Without ties for the front and back
+  // (there the derivative is one-sided): the front-left corner 1 mm further back and the
+  // back-right 1 mm further back, so the middle is z = −0.5 mm and the crossings lie at
+  // x = 3.82 and −3.8125 cm.
+  const int ring = 4;
+  Vertices v = m.data().template_vertices;
+  v(ring * 6 + 2, 2) = 0.019;
+  v(ring * 6 + 5, 2) = -0.021;
+  const MeasurementDefinition& def = m.data().measurements[0];
+  const MeasurementGradient g = measure_with_gradient(m, def, v, m.faces());
+  EXPECT_NEAR(g.value, 0.0382 + 0.038125, 1e-12);
+  constexpr double kStep = 1e-6;
+  for (int k = 0; k < 6; ++k)
+    for (int axis : {0, 2}) {
+      const int vertex = ring * 6 + k;
+      Vertices up = v, down = v;
+      up(vertex, axis) += kStep;
+      down(vertex, axis) -= kStep;
+      const double numeric = (measure(m, def, up) - measure(m, def, down)) / (2 * kStep);
+      double predicted = 0;
+      for (const auto& term : g.terms)
+        if (term.vertex == vertex) predicted += term.d(axis);
+      EXPECT_NEAR(predicted, numeric, 1e-6) << "corner " << k << (axis == 0 ? " x" : " z");
+    }
+  // Only horizontal sections have a front half.
+  BodyModelData tilted = m.data();
+  tilted.measurements[0].plane_normal = Axis::X;
+  const BodyModel bad(std::move(tilted));
+  EXPECT_THROW(measure(bad, bad.data().measurements[0], bad.data().template_vertices), Error);
 }
 
 TEST(Measure, BareMeshNeedsClosedSurface) {

@@ -100,13 +100,11 @@ std::vector<RegionCreaseSurvey> survey_creases(const GeneratedPopulation& popula
 BodyModel measuring_model(const Vertices& body, Sex sex);
 
 // How closely a generated population reproduces its subjects' ANSUR values: per fidelity target
-// (fidelity_targets()), plus chest depth (not a target: the chest section trades it, see
-// generator.cpp), the signed error's mean (the bias) and largest size over the bodies, and how
+// (fidelity_targets()), the signed error's mean (the bias) and largest size over the bodies, and how
 // many bodies miss the test's tolerance (3 mm; 1 % for circumferences). Errors in metres;
 // circumferences' also as fractions of the ANSUR value. Runs on `threads` workers.
 struct TargetFidelity {
   FidelityTarget target;
-  bool is_target = true;               // false: chest depth, reported only
   double mean_error_m = 0;             // measured − ANSUR, mean over bodies
   double max_abs_error_m = 0;
   double max_abs_error_fraction = 0;   // |measured − ANSUR| / ANSUR, largest

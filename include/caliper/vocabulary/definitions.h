@@ -12,6 +12,9 @@ enum class MeasurementKind {
   Length,         // polyline through landmarks[0..n): sum of Euclidean segment lengths, rest pose
   Breadth,        // section through landmarks[0] (plane normal `plane_normal`), extent along X
   Depth,          // same section, extent along Z
+  // Same section, extent along X of its front half (in front of the middle of its depth): a
+  // caliper's blades on the chest's sides, in front of the arms, while the back may be wider.
+  FrontBreadth,
   Circumference,  // same section, perimeter of the convex hull of the loop nearest the landmark (a tape)
   Weight,         // a · volume + b (model's coefficients)
 };
