@@ -1125,6 +1125,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // The back keeps most of the chest's flare down to here, so from behind it widens nearly
     // straight from the waist to the armpits (at half, it bulged out just under the chest ring).
     r.flare = 0.85 * K[kChest].flare;
+    r.back_squareness = 0.5 * K[kChest].back_squareness;
     K[kUnderBust] = r;
     r = K[kChest];
     r.y = y_ax;
