@@ -86,9 +86,10 @@ p();
 p('Every input is reproduced as given except arm length: a person\'s arm length is measured hanging and');
 p('the avatar\'s in a T-pose, and the model\'s real → virtual map between them (paper §3.3) has a residual');
 p('of about 1.15 cm, so `auto` holds the arm to that precision rather than to 0.1 mm (docs/cli.md); pinned');
-p('exactly, it dragged biacromial breadth to 1.25× its linear limit (women). Men\'s chest breadth and depth');
-p('carry the body\'s one compromise: where ANSUR\'s chest circumference needs more than a section of that');
-p('breadth and depth can give, the chest grows in both, +0.4 cm on average (docs/mannequin.md).');
+p('exactly, it dragged biacromial breadth to 1.25× its linear limit (women). Chest breadth is taken across');
+p('the front of the section, between the arms, and a man\'s back may be wider there (docs/mannequin.md, "The');
+p('chest"); where ANSUR\'s chest circumference needs more than even that back gives (166 of 3,062 men of the');
+p('development data), the chest grows in breadth and depth, by 0.39 cm of depth on average among them.');
 p();
 for (const sex of sexes) {
   const d = load(sex, 'none');
