@@ -88,8 +88,8 @@ p('the avatar\'s in a T-pose, and the model\'s real → virtual map between them
 p('of about 1.15 cm, so `auto` holds the arm to that precision rather than to 0.1 mm (docs/cli.md); pinned');
 p('exactly, it dragged biacromial breadth to 1.25× its linear limit (women). Chest breadth is taken across');
 p('the front of the section, between the arms, and a man\'s back may be wider there (docs/mannequin.md, "The');
-p('chest"); where ANSUR\'s chest circumference needs more than even that back gives (166 of 3,062 men of the');
-p('development data), the chest grows in breadth and depth, by 0.39 cm of depth on average among them.');
+p('chest"); where ANSUR\'s chest circumference needs more than even that back gives (a few men, counted');
+p('there), the chest grows in breadth and depth by one factor.');
 p();
 for (const sex of sexes) {
   const d = load(sex, 'none');

@@ -210,7 +210,7 @@ void register_fidelity(CLI::App& model) {
   CLI::App* cmd = model.add_subcommand(
       "fidelity", "Fidelity: the built-in body generated for every ANSUR II subject of --sex, measured with Caliper's "
                   "own definitions against the subject's values: mean error (bias), largest error and bodies out of "
-                  "tolerance (3 mm; 1 % for circumferences) per target, and chest depth");
+                  "tolerance (3 mm; 1 % for circumferences) per target");
   cmd->add_option("--ansur", *ansur, "folder with ANSUR_II_{FEMALE,MALE}*.csv, or one CSV file")->required();
   cmd->add_option("--sex", *sex, "female or male")->check(CLI::IsMember({"female", "male"}))->capture_default_str();
   cmd->add_option("--every", *every, "every N-th subject only (1–1000)")->check(CLI::Range(1, 1000))->capture_default_str();

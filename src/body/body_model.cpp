@@ -130,10 +130,13 @@ void validate(const BodyModelData& d) {
   }
   for (const auto& [name, v] : d.landmarks)
     if (v < 0 || v >= n) inconsistent("landmarks", "landmark '" + name + "' has vertex " + std::to_string(v) + " out of range");
-  for (const auto& m : d.measurements)
+  for (const auto& m : d.measurements) {
     for (const auto& l : m.landmarks)
       if (!d.landmarks.count(l))
         inconsistent("measurements", "measurement '" + m.name + "' uses unknown landmark '" + l + "'");
+    if (m.kind == MeasurementKind::FrontBreadth && m.plane_normal != Axis::Y)
+      inconsistent("measurements", "measurement '" + m.name + "': a front breadth needs a horizontal section (plane_normal y)");
+  }
   validate_uvs(d);
   if (!std::isfinite(d.weight_from_volume.a) || !std::isfinite(d.weight_from_volume.b) || d.weight_from_volume.a <= 0)
     inconsistent("weight_from_volume", "coefficients must be finite with a > 0");

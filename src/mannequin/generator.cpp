@@ -1134,6 +1134,8 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     r.df = K[kChest].df * (female ? 0.8 : 0.98);
     r.db = K[kChest].db * 0.98;
     r.p = std::max(2.6, K[kChest].p - 0.2);  // no crease at the chest ring's corners
+    // The back keeps the chest's squareness and flare up to the armpit: the shoulder blades and
+    // the latissimus are as broad there.
     // Under the arm the back stays flared, but within 2.5 cm of the acromion: the arm's root
     // follows the armpit hole's rim out, and the biacromial breadth is exact only while it stays
     // inside the acromion.
@@ -2779,7 +2781,7 @@ double ear_height(double Y, double Z) {
   return shell + 0.35 * rim - 0.7 * bowl;
 }
 
-// Squarish rings (men's chests reach superellipse exponent 14) sample their flat front and back
+// Squarish rings (hips reach superellipse exponent 6, a chest's back 8) sample their flat front and back
 // with hardly a vertex: column 1 sits at 0.7 of the half-breadth, so a groove or a pectoral has
 // nothing to move. Each ring's front (columns 0–8) and back (24–32), and the head's rings all
 // round, are re-spaced along the ring's own polyline, at equal steps of length plus a share for the turning angle (corners keep more
@@ -2992,7 +2994,7 @@ void add_back_relief(const ReliefFrame& F, double x, double y, double back, doub
 double torso_relief(const ReliefFrame& F, const BodyPlan& P, const Vec3& p, int k, double jf) {
   const double t = 2 * kPi * jf / kTorsoN, c = std::cos(t), s = std::sin(t);
   const double x = std::abs(p.x()), y = p.y();
-  const double front = smoothstep(0.25, 0.65, c), back = smoothstep(0.25, 0.65, -c);
+  const double front = front_share(t), back = smoothstep(0.25, 0.65, -c);
   double h = 0;
   if (y > F.y_cv) add_head_relief(F, P, p, k, jf, h);
   add_front_relief(F, x, y, front, h);

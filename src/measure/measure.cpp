@@ -83,7 +83,9 @@ void add_section_point_gradient(const SectionPoint& s, const Eigen::Vector3d& g,
 // A front breadth (MeasurementKind::FrontBreadth): the loop's extent along X over its part in
 // front of the middle of its depth, z ≥ mid. Each extreme is a loop point there or the point
 // where a loop edge crosses z = mid; there x = x_a + u·(x_b − x_a), u = (mid − z_a)/(z_b − z_a),
-// so it moves with both edge ends and, through mid, with the loop's front and back points.
+// so it moves with both edge ends and, through mid, with the loop's front and back points. The
+// loop is closed (sections of closed meshes are), so its last point joins its first. "Front" is
+// +Z: models face +Z (docs/model-format.md).
 double front_breadth(const SectionLoop& loop, const Eigen::Vector3d& n, int landmark, const Vertices& rest,
                      std::vector<GradientTerm>* gradient) {
   constexpr int X = 0, Z = 2;
@@ -106,6 +108,7 @@ double front_breadth(const SectionLoop& loop, const Eigen::Vector3d& n, int land
     if (za >= mid) consider(a, a, 0.0);
     if ((za - mid) * (zb - mid) < 0) consider(a, b, (mid - za) / (zb - za));
   }
+  if (!lo || !hi) throw Error(ErrorKind::Format, "the section has no front half (non-finite coordinates?)", "vertices");
   if (gradient) {
     const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ez = Eigen::Vector3d::UnitZ();
     for (const auto& [e, sign] : {std::pair{*hi, 1.0}, std::pair{*lo, -1.0}}) {

@@ -134,30 +134,41 @@ TEST(Measure, FrontBreadthIsTheFrontHalfsWidth) {
   // back-right 1 mm further back, so the middle is z = −0.5 mm and the crossings lie at
   // x = 3.82 and −3.8125 cm.
   const int ring = 4;
+  const MeasurementDefinition& def = m.data().measurements[0];
+  auto check_gradient = [&](const Vertices& v, const std::string& shape) {
+    const MeasurementGradient g = measure_with_gradient(m, def, v, m.faces());
+    EXPECT_NEAR(g.value, measure(m, def, v), 1e-15) << shape;
+    constexpr double kStep = 1e-6;
+    for (int k = 0; k < 6; ++k)
+      for (int axis : {0, 2}) {
+        const int vertex = ring * 6 + k;
+        Vertices up = v, down = v;
+        up(vertex, axis) += kStep;
+        down(vertex, axis) -= kStep;
+        const double numeric = (measure(m, def, up) - measure(m, def, down)) / (2 * kStep);
+        double predicted = 0;
+        for (const auto& term : g.terms)
+          if (term.vertex == vertex) predicted += term.d(axis);
+        EXPECT_NEAR(predicted, numeric, 1e-6) << shape << ", corner " << k << (axis == 0 ? " x" : " z");
+      }
+  };
   Vertices v = m.data().template_vertices;
   v(ring * 6 + 2, 2) = 0.019;
   v(ring * 6 + 5, 2) = -0.021;
-  const MeasurementDefinition& def = m.data().measurements[0];
-  const MeasurementGradient g = measure_with_gradient(m, def, v, m.faces());
-  EXPECT_NEAR(g.value, 0.0382 + 0.038125, 1e-12);
-  constexpr double kStep = 1e-6;
-  for (int k = 0; k < 6; ++k)
-    for (int axis : {0, 2}) {
-      const int vertex = ring * 6 + k;
-      Vertices up = v, down = v;
-      up(vertex, axis) += kStep;
-      down(vertex, axis) -= kStep;
-      const double numeric = (measure(m, def, up) - measure(m, def, down)) / (2 * kStep);
-      double predicted = 0;
-      for (const auto& term : g.terms)
-        if (term.vertex == vertex) predicted += term.d(axis);
-      EXPECT_NEAR(predicted, numeric, 1e-6) << "corner " << k << (axis == 0 ? " x" : " z");
-    }
-  // Only horizontal sections have a front half.
+  EXPECT_NEAR(measure(m, def, v), 0.0382 + 0.038125, 1e-12);
+  check_gradient(v, "crossings at both ends");
+  // The right side's corner moved out to (5.5, 0.4) cm, in front of the middle: it is the front
+  // half's right end itself (the edge from the back corner crosses the middle at x = 5.41 cm).
+  v(ring * 6 + 0, 0) = 0.055;
+  v(ring * 6 + 0, 2) = 0.004;
+  EXPECT_NEAR(measure(m, def, v), 0.055 + 0.038125, 1e-12);
+  check_gradient(v, "a corner at the right end");
+  // Only horizontal sections have a front half: a model that says otherwise is refused, and so is
+  // measuring with such a definition.
   BodyModelData tilted = m.data();
   tilted.measurements[0].plane_normal = Axis::X;
-  const BodyModel bad(std::move(tilted));
-  EXPECT_THROW(measure(bad, bad.data().measurements[0], bad.data().template_vertices), Error);
+  EXPECT_THROW(BodyModel{tilted}, Error);
+  EXPECT_THROW(measure(m, tilted.measurements[0], m.data().template_vertices), Error);
 }
 
 TEST(Measure, BareMeshNeedsClosedSurface) {

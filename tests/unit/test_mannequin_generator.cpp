@@ -816,7 +816,7 @@ TEST(MannequinGenerator, NeckLeansForwardThroughC7) {
 // 80 % of its half-breadth lies at least 5 % of the chest's depth behind its most forward point.
 // (Women's breasts stand furthest forward about there.)
 // With the breadth taken across the whole section (until 2026-11-29) the section had to be as
-// square as its bounding box: the back no wider, the front flat to 2 mm at 80 %, a panel.
+// square as its bounding box: the back no wider, the front flat to 3 mm at 80 %, a panel.
 TEST(MannequinGenerator, ChestRoundsIntoItsSidesAndWidensBehind) {
   int men = 0;
   for (const auto& [d, sex] : sample_bodies()) {
@@ -1062,7 +1062,7 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
 #endif
   const size_t stride = thin ? 600 : 15, unusual_stride = thin ? 40 : 1;
   size_t unusual_seen = 0;
-  int bodies = 0, unusual_bodies = 0;
+  int bodies = 0, unusual_bodies = 0, grown_chests = 0;
   std::map<std::string, int> misses;
   for (const char* file : {"ANSUR_II_FEMALE_dev.csv", "ANSUR_II_MALE_dev.csv"}) {
     const auto subjects = read_ansur_csv(dir + file);
@@ -1098,21 +1098,25 @@ TEST(MannequinGenerator, ReproducesAnsurSubjects) {
         EXPECT_LE(r.max_degrees, 130) << "subject " << s.id << ", " << to_string(r.region) << " edge " << r.worst.a << "-" << r.worst.b;
       }
       for (const auto& miss : relief_failures(model, v, dims)) ADD_FAILURE() << "subject " << s.id << ": " << miss;
-      // A chest whose circumference no plausible section of its breadth and depth reaches grows
-      // in both by one factor (generator.cpp header): there breadth is traded, not missed.
+      // A chest whose circumference even a flared back does not reach grows in breadth and depth
+      // by one factor (generator.cpp header): there both are traded, not missed. The excuse is
+      // bounded: by at most 10 % (the development data's largest is under 7 %), on a man, and on
+      // at most a tenth of the bodies (166 of 3,062 men, 0 of 1,490 women of the development data).
       const double depth_factor = m.at("chest_depth") / dims.at("chestdepth");
-      const bool chest_grew = depth_factor > 1.001;
+      const double breadth_factor = m.at("chest_breadth") / dims.at("chestbreadth");
+      const bool chest_grew = s.sex == Sex::Male && depth_factor > 1.001 && depth_factor < 1.10 &&
+                              std::abs(breadth_factor - depth_factor) < 0.01;
+      grown_chests += chest_grew;
       for (const auto& t : targets) {
         const double want = dims.at(t.ansur_column), got = m.at(t.measurement);
         bool ok = t.circumference ? std::abs(got - want) <= 0.01 * want : std::abs(got - want) <= 0.003;
-        const double breadth_factor = m.at("chest_breadth") / dims.at("chestbreadth");
-        if (!ok && t.measurement == "chest_breadth" && chest_grew) ok = std::abs(breadth_factor - depth_factor) < 0.01;
-        if (!ok && t.measurement == "chest_depth" && chest_grew) ok = std::abs(breadth_factor - depth_factor) < 0.01;
+        if (!ok && chest_grew && (t.measurement == "chest_breadth" || t.measurement == "chest_depth")) ok = true;
         if (!ok) ++misses[t.measurement];
       }
     }
   }
   ASSERT_GT(bodies, thin ? 15 : 250);
+  EXPECT_LE(grown_chests, bodies / 10);
   EXPECT_GT(unusual_bodies, thin ? 8 : 300);  // the development subset has ~450 of them
   for (const auto& [name, n] : misses) ADD_FAILURE() << name << " missed on " << n << " of " << bodies << " bodies";
 }
