@@ -828,14 +828,19 @@ TEST(MannequinGenerator, ChestRoundsIntoItsSidesAndWidensBehind) {
     for (const auto& q : section) front = std::max(front, q.z()), back = std::min(back, q.z());
     const double mid = 0.5 * (front + back);
     double half_front = 0, half_back = 0;
-    for (const auto& q : section) (q.z() >= mid ? half_front : half_back) = std::max(q.z() >= mid ? half_front : half_back, std::abs(q.x()));
+    for (const auto& q : section) {
+      double& half = q.z() >= mid ? half_front : half_back;
+      half = std::max(half, std::abs(q.x()));
+    }
     double at_80 = -1e9;  // the front's most forward point at 75–85 % of the front half-breadth
     for (const auto& q : section)
       if (q.z() > mid && std::abs(std::abs(q.x()) / half_front - 0.8) < 0.05) at_80 = std::max(at_80, q.z());
     const std::string body = std::string(to_string(sex)) + ", " + std::to_string(d.at("stature")) + " m";
     ASSERT_GT(at_80, mid) << body;
     EXPECT_GE(front - at_80, 0.05 * (front - back)) << body;
-    if (d == mq::typical_dimensions(Sex::Male)) EXPECT_GE(half_back - half_front, 0.015 * d.at("stature") / 1.70) << body;
+    if (d == mq::typical_dimensions(Sex::Male)) {
+      EXPECT_GE(half_back - half_front, 0.015 * d.at("stature") / 1.70) << body;
+    }
   }
   EXPECT_EQ(men, 2);
 }
