@@ -274,6 +274,8 @@ constexpr int kArmBottom = 4, kArmBack = 12, kArmTop = 20, kArmFront = 28;
 
 double spow(double v, double e) { return v < 0 ? -std::pow(-v, e) : std::pow(v, e); }
 double sq(double v) { return v * v; }
+// Where a body lies between the sexes' shapes: 1 for women, 0 for men, 0.5 for the neutral body.
+double femininity(Sex sex) { return sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5; }
 // 1 at the centre, 0 beyond the ellipse of radii (rx, ry), C² in between.
 double blob(double dx, double dy, double rx, double ry) {
   const double r2 = sq(dx / rx) + sq(dy / ry);
@@ -371,7 +373,7 @@ struct ChestFrame {
 ChestFrame chest_frame(Sex sex, double sc, double y_w, double y_us, double y_ch, double y_ax, double y_acr) {
   ChestFrame F;
   F.female = sex == Sex::Female;
-  F.fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
+  F.fem = femininity(sex);
   F.cm = 0.01 * sc;
   F.y_w = y_w; F.y_us = y_us; F.y_ch = y_ch; F.y_ax = y_ax; F.y_acr = y_acr;
   return F;
@@ -1015,7 +1017,7 @@ double torso_point_y(const BodyPlan& P, int k, double s, double c) {
 BodyPlan plan_body(const Dims& d, Sex sex) {
   BodyPlan P;
   const bool female = sex == Sex::Female;
-  const double fem = sex == Sex::Female ? 1.0 : sex == Sex::Male ? 0.0 : 0.5;
+  const double fem = femininity(sex);
   const double sc = d.S / 1.70;
   const double hs = d.headl / 0.195;  // head scale
 

@@ -55,6 +55,16 @@ std::pair<int, int> in_plane_axes(Axis normal) {
 }
 
 using SectionLoop = std::vector<SectionPoint>;
+
+// The loop's points of least and greatest coordinate along `axis` (the first found at a tie).
+std::pair<size_t, size_t> extreme_points(const SectionLoop& loop, int axis) {
+  size_t lo = 0, hi = 0;
+  for (size_t i = 1; i < loop.size(); ++i) {
+    if (loop[i].q(axis) < loop[lo].q(axis)) lo = i;
+    if (loop[i].q(axis) > loop[hi].q(axis)) hi = i;
+  }
+  return {lo, hi};
+}
 using SectionCache = std::map<std::pair<std::string, Axis>, SectionLoop>;
 
 const SectionLoop& cached_loop(const BodyModel& model, const MeasurementDefinition& def, const Vertices& rest,
@@ -89,11 +99,7 @@ void add_section_point_gradient(const SectionPoint& s, const Eigen::Vector3d& g,
 double front_breadth(const SectionLoop& loop, const Eigen::Vector3d& n, int landmark, const Vertices& rest,
                      std::vector<GradientTerm>* gradient) {
   constexpr int X = 0, Z = 2;
-  size_t back = 0, front = 0;
-  for (size_t i = 1; i < loop.size(); ++i) {
-    if (loop[i].q(Z) < loop[back].q(Z)) back = i;
-    if (loop[i].q(Z) > loop[front].q(Z)) front = i;
-  }
+  const auto [back, front] = extreme_points(loop, Z);
   const double mid = 0.5 * (loop[back].q(Z) + loop[front].q(Z));
   struct Extreme { size_t a = 0, b = 0; double u = 0, x = 0; };
   std::optional<Extreme> lo, hi;
@@ -161,11 +167,7 @@ double measure_with(const BodyModel& model, const MeasurementDefinition& def, co
     case MeasurementKind::Depth: {
       const SectionLoop& loop = cached_loop(model, def, rest, section_faces, cache, own);
       const int axis = def.kind == MeasurementKind::Breadth ? 0 : 2;
-      size_t lo = 0, hi = 0;
-      for (size_t i = 1; i < loop.size(); ++i) {
-        if (loop[i].q(axis) < loop[lo].q(axis)) lo = i;
-        if (loop[i].q(axis) > loop[hi].q(axis)) hi = i;
-      }
+      const auto [lo, hi] = extreme_points(loop, axis);
       if (gradient) {
         const Eigen::Vector3d n = axis_vector(def.plane_normal), e = axis_vector(static_cast<Axis>(axis));
         const int landmark = model.landmark(def.landmarks[0]);
