@@ -12,10 +12,14 @@ namespace caliper {
 Vertices vertex_normals(const Vertices& vertices, const Faces& faces) {
   Vertices normals = Vertices::Zero(vertices.rows(), 3);
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const Eigen::Vector3d a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)),
-                          c = vertices.row(faces(f, 2));
-    const Eigen::Vector3d n = (b - a).cross(c - a);  // length = 2·area: area weighting for free
-    for (int k = 0; k < 3; ++k) normals.row(faces(f, k)) += n.transpose();
+    const Eigen::Vector3d a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)), c = vertices.row(faces(f, 2));
+    // Every corner's two edges span the same cross product n (|n| = |e1| |e2| sin of the corner's
+    // angle); the corner's weight divides it by its two edges' squared lengths.
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double ab = (b - a).squaredNorm(), bc = (c - b).squaredNorm(), ca = (a - c).squaredNorm();
+    const std::array<double, 3> lengths = {ab * ca, ab * bc, bc * ca};  // at a, b, c
+    for (int k = 0; k < 3; ++k)
+      if (lengths[static_cast<size_t>(k)] > 0) normals.row(faces(f, k)) += (n / lengths[static_cast<size_t>(k)]).transpose();
   }
   for (Eigen::Index v = 0; v < normals.rows(); ++v) {
     const double len = normals.row(v).norm();

@@ -67,6 +67,8 @@
 namespace caliper::mannequin {
 
 using detail::MonotoneCurve;
+using detail::QuinticEnd;
+using detail::quintic_hermite;
 using detail::smoothstep;
 using Vec3 = Eigen::Vector3d;
 
@@ -453,13 +455,22 @@ void fit_section_depths(TorsoRing& r, double front, double back, const ChestFram
 // The skull above the glabella ring: a quarter-superellipse of exponent kDomeE in profile, at
 // superellipse angle th (0: the glabella ring, π/2: the vertex). With 2, a quarter-ellipse, the
 // forehead slopes back from the brow and the crown comes to a point (an egg); a real forehead
-// rises nearly upright for a few centimetres and the crown is broad.
-constexpr double kDomeE = 2.6;
+// rises nearly upright for a few centimetres and the crown is broad. A superellipse of exponent
+// over 2 starts without curvature, though, while the head under its widest ring is curved: the
+// back of the head showed a band along the glabella ring. So the sides and the back (not the
+// forehead, which stays upright) give up ½ kDomeBase u² (1 − u)² of their scale at height u over
+// the glabella ring (a share of the dome's height): they curve in from the start, as an ellipse
+// does (c''(0) = −kDomeBase), and the crown is as it was (at most 3 % off, halfway up; with
+// (1 − u)⁴ the curvature was gone 1.3 cm up, which only moved the band).
+constexpr double kDomeE = 2.6, kDomeBase = 1.0;
 TorsoRing dome_ring(const TorsoRing& glabella, double vertex_y, double hs, double th) {
   TorsoRing r = glabella;
-  r.y = glabella.y + (vertex_y - glabella.y) * std::pow(std::sin(th), 2 / kDomeE);
+  const double u = std::pow(std::sin(th), 2 / kDomeE);
+  r.y = glabella.y + (vertex_y - glabella.y) * u;
   const double c = std::pow(std::cos(th), 2 / kDomeE);
-  r.a *= c; r.df *= c; r.db *= c * (1 - 0.03 * (1 - c));  // the back flattens gradually: no step at the glabella ring
+  const double rounded = c - 0.5 * kDomeBase * sq(u * (1 - u));
+  r.a *= rounded; r.df *= c;
+  r.db *= rounded * (1 - 0.03 * (1 - c));  // the back flattens gradually: no step at the glabella ring
   r.cz = glabella.cz - 0.012 * hs * (1 - c);
   return r;
 }
@@ -1392,25 +1403,39 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       P.torso_jaw_lift[static_cast<size_t>(k)] = jaw(P.torso[static_cast<size_t>(k)].y);
     }
   }
-  // The nape: the backs of the rings from the cervicale up to the nose ring follow one smooth
-  // profile through C7, the nape and the nose ring's back (monotone cubic; its slopes at the ends
-  // set by the rings beyond them). From C7 the back of the neck leans forward into the nape's
-  // hollow, halfway up to the nose ring's back and 1.2 head-centimetres in front of the fuller
-  // of the two, then the skull rounds out behind. Before (2026-11-28) the profile ran only
-  // backward from C7 to the nose ring: the back of the neck stood straight from the shoulders
-  // into the skull, a pipe. Carried on up to the glabella ring it reshaped the skull's side
-  // behind the ears, and on some women the ear's rim stood less than 1 mm beyond its bowl.
-  // Interpolated between the key rings, the chin ring's back stood out under the skull, a
-  // helmet's rim.
+  // The nape and the occiput: the backs of the rings from the cervicale up to the glabella ring
+  // follow one smooth profile. From C7 the back of the neck leans forward into the nape's hollow,
+  // halfway up to the nose ring's back and 1.2 head-centimetres in front of the fuller of the two
+  // (a monotone cubic through C7 and the hollow, its slope at C7 set by the ring under it); from
+  // the hollow the skull rounds out behind to the glabella ring's back, the head's longest point,
+  // on a quintic that meets the dome there in slope and curvature. Before (2026-11-28) the back
+  // of the neck stood straight from the shoulders into the skull, a pipe; until 2026-11-29 the
+  // profile ended at the nose ring, whose own back and the glabella ring's met it with a kink,
+  // and the back of the head showed a band at each (its curvature went from −18°/cm to +10°/cm
+  // at the nose ring on the mean man, and from −6°/cm to 0 at the glabella ring).
   {
-    const int kc = torso_key_ring(kCervicale), kn = torso_key_ring(kNose);
+    const int kc = torso_key_ring(kCervicale), kn = torso_key_ring(kNose), kgl = torso_key_ring(kGlabella);
     auto back_y = [&](int k) { return torso_point_y(P, k, 0, -1); };
     auto back_z = [&](int k) { return P.torso[static_cast<size_t>(k)].cz - P.torso[static_cast<size_t>(k)].db; };
     const double y_nape = std::lerp(back_y(kc), back_y(kn), 0.5);
     const double z_nape = std::max(back_z(kc), back_z(kn)) + 0.012 * hs;
-    const MonotoneCurve nape({back_y(kc - 1), back_y(kc), y_nape, back_y(kn), back_y(kn + 1)},
-                             {back_z(kc - 1), back_z(kc), z_nape, back_z(kn), back_z(kn + 1)});
-    for (int k = kc + 1; k < kn; ++k) P.torso[static_cast<size_t>(k)].db = P.torso[static_cast<size_t>(k)].cz - nape(back_y(k));
+    // The neck's curve is level at the hollow: a last knot as deep as the hollow, above it, says so.
+    const MonotoneCurve neck({back_y(kc - 1), back_y(kc), y_nape, y_nape + 0.01 * hs}, {back_z(kc - 1), back_z(kc), z_nape, z_nape});
+    // Second derivatives by finite differences: under the hollow on the neck's curve, over the
+    // glabella ring on the dome's (by height u over it; the dome's back has no pitch).
+    const double e = 1e-5 * hs;
+    const double neck_curvature = (neck(y_nape) - 2 * neck(y_nape - e) + neck(y_nape - 2 * e)) / (e * e);
+    const double dome_h = d.S - K[kGlabella].y, du = e / dome_h;
+    auto dome_back_z = [&](double u) {
+      const TorsoRing r = dome_ring(K[kGlabella], d.S, hs, std::asin(std::pow(u, kDomeE / 2)));
+      return r.cz - r.db;
+    };
+    const double dome_curvature = (dome_back_z(0) - 2 * dome_back_z(du) + dome_back_z(2 * du)) / (e * e);
+    const QuinticEnd hollow{y_nape, z_nape, 0.0, neck_curvature}, occiput{back_y(kgl), back_z(kgl), 0.0, dome_curvature};
+    for (int k = kc + 1; k < kgl; ++k) {
+      const double y = back_y(k);
+      P.torso[static_cast<size_t>(k)].db = P.torso[static_cast<size_t>(k)].cz - (y <= y_nape ? neck(y) : quintic_hermite(hollow, occiput, y));
+    }
   }
   // Dome: a quarter-superellipse from the glabella ring to the vertex (dome_ring).
   P.head_top = d.S;

@@ -3,6 +3,9 @@
 
 #include "fixtures.h"
 
+#include <cmath>
+#include <numbers>
+
 using namespace caliper;
 
 TEST(Geometry, UnitCubeVolumeIsOne) {
@@ -115,6 +118,38 @@ TEST(Geometry, NormalsOfCubeCornerPointOutwards) {
     EXPECT_GT(n.row(v).dot(out.transpose()), 0.0);
     EXPECT_NEAR(n.row(v).norm(), 1.0, 1e-12);
   }
+}
+
+// Rings on a unit sphere, 1° of latitude apart below the equator and 15° above it (as the body's
+// rings are 1.6 mm apart under the head's widest ring and 13 mm over it): every vertex's normal is
+// its radius, the equator's too. Weighting the faces by area tilted the equator's normals about
+// 6° toward the larger faces above, a band in the shading.
+TEST(Geometry, NormalsOnUnevenRingsOfASphereAreRadial) {
+  std::vector<double> latitudes;
+  for (int d = -30; d <= 0; ++d) latitudes.push_back(d);
+  latitudes.insert(latitudes.end(), {15.0, 30.0, 45.0});
+  const int columns = 48, rings = static_cast<int>(latitudes.size());
+  Vertices v(rings * columns, 3);
+  for (int r = 0; r < rings; ++r)
+    for (int c = 0; c < columns; ++c) {
+      const double lat = latitudes[static_cast<size_t>(r)] * std::numbers::pi / 180, lon = 2 * std::numbers::pi * c / columns;
+      v.row(r * columns + c) << std::cos(lat) * std::cos(lon), std::sin(lat), -std::cos(lat) * std::sin(lon);
+    }
+  Faces f(2 * (rings - 1) * columns, 3);
+  int n = 0;
+  for (int r = 0; r + 1 < rings; ++r)
+    for (int c = 0; c < columns; ++c) {
+      const int a = r * columns + c, b = r * columns + (c + 1) % columns, up = a + columns, up_b = b + columns;
+      f.row(n++) << a, b, up_b;
+      f.row(n++) << a, up_b, up;
+    }
+  const Vertices normals = vertex_normals(v, f);
+  for (int r = 1; r + 1 < rings; ++r)  // the first and last rings have faces on one side only
+    for (int c = 0; c < columns; ++c) {
+      const Eigen::Vector3d radius = v.row(r * columns + c), normal = normals.row(r * columns + c);
+      EXPECT_LT(std::acos(std::min(1.0, normal.dot(radius))) * 180 / std::numbers::pi, 0.05)
+          << "ring at latitude " << latitudes[static_cast<size_t>(r)] << "°, column " << c;
+    }
 }
 
 TEST(Geometry, ClosedCubeHasNoSelfIntersections) {

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <numbers>
 #include <optional>
 
 #include "caliper/body/crease.h"
@@ -788,6 +789,41 @@ TEST(MannequinGenerator, NapeHollowsUnderTheSkull) {
     const double y0 = v(lm.at("cervicale"), 1), y1 = v(lm.at("opisthocranion"), 1);
     ASSERT_LT(y0 + 0.05, y1) << to_string(sex);
     EXPECT_EQ(nape_failure(v, mq::topology().faces, y0, y1, 0.01 * d.at("headlength") / 0.195), "") << to_string(sex) << ", " << d.at("stature") << " m tall";
+  }
+}
+
+// The back of the head curves smoothly from the nape up over the glabella ring: along the back's
+// midline (its vertices, one per ring, from 6 head-cm under the opisthocranion to 3 over it) no
+// vertex's curvature stands more than 3°/head-cm off the mean of its neighbours', and just over
+// the glabella ring (which carries the opisthocranion) the curvature is within 3°/head-cm of
+// just under it. Before 2026-11-29 the nose ring's back was a kink (27–37°/head-cm off on these
+// bodies) and the dome started flat over the glabella ring (3.2–4.3°/head-cm less curved than
+// the head under it): a band across the back of the head at each.
+TEST(MannequinGenerator, BackOfTheHeadCurvesSmoothly) {
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const auto& lm = mq::topology().landmarks;
+    const double hu = 0.01 * d.at("headlength") / 0.195;
+    const Eigen::Vector3d back = v.row(lm.at("opisthocranion")), front = v.row(lm.at("glabella"));
+    std::vector<Eigen::Vector2d> profile;  // (y, z) of the back midline's vertices, upward
+    for (Eigen::Index i = 0; i < v.rows(); ++i)
+      if (v(i, 0) == 0.0 && v(i, 2) < 0.5 * (back.z() + front.z()) && std::abs(v(i, 1) - back.y() + 1.5 * hu) < 4.5 * hu)
+        profile.emplace_back(v(i, 1), v(i, 2));
+    std::sort(profile.begin(), profile.end(), [](const auto& a, const auto& b) { return a.x() < b.x(); });
+    ASSERT_GE(profile.size(), 20u) << to_string(sex);
+    std::vector<double> curvature(profile.size(), 0.0);  // degrees per head-cm, at each vertex
+    size_t glabella_ring = 0;
+    for (size_t i = 1; i + 1 < profile.size(); ++i) {
+      const Eigen::Vector2d a = profile[i] - profile[i - 1], b = profile[i + 1] - profile[i];
+      const double turn = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)) * 180 / std::numbers::pi;
+      curvature[i] = turn / (0.5 * (a.norm() + b.norm()) / hu);
+      if (std::abs(profile[i].x() - back.y()) < 1e-9) glabella_ring = i;
+    }
+    for (size_t i = 2; i + 2 < profile.size(); ++i)
+      EXPECT_LE(std::abs(curvature[i] - 0.5 * (curvature[i - 1] + curvature[i + 1])), 3.0)
+          << to_string(sex) << ": a kink " << (profile[i].x() - back.y()) / hu << " head-cm over the opisthocranion";
+    ASSERT_GT(glabella_ring, 1u) << to_string(sex);
+    EXPECT_LE(std::abs(curvature[glabella_ring + 1] - curvature[glabella_ring - 1]), 3.0) << to_string(sex);
   }
 }
 
