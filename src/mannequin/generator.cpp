@@ -1412,7 +1412,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   // of the neck stood straight from the shoulders into the skull, a pipe; until 2026-11-29 the
   // profile ended at the nose ring, whose own back and the glabella ring's met it with a kink,
   // and the back of the head showed a band at each (its curvature went from −18°/cm to +10°/cm
-  // at the nose ring on the mean man, and from −6°/cm to 0 at the glabella ring).
+  // at the nose ring on the mean man, and from −6°/cm to 0 at the glabella ring). A monotone
+  // cubic carried up to the glabella ring (tried before) reshaped the skull's side behind the
+  // ears: on some women the ear's rim stood less than 1 mm beyond its bowl. Interpolated between
+  // the key rings, the chin ring's back stood out under the skull, a helmet's rim.
   {
     const int kc = torso_key_ring(kCervicale), kn = torso_key_ring(kNose), kgl = torso_key_ring(kGlabella);
     auto back_y = [&](int k) { return torso_point_y(P, k, 0, -1); };
