@@ -32,20 +32,19 @@ $c render --sex male --beta 0 --focus left_foot --focus-radius 8 --views front,s
 # A heavy man (BMI 35: 178 cm, 111 kg).
 $c render --sex male --height 178 --weight 111 -o docs/images/mannequin-heavy-man.png "${size[@]}"
 # Beside the MakeHuman body at the same measurements, when MakeHuman's assets are beside the
-# project (the MakeHuman model is built into build/, never committed; docs/makehuman.md).
-mh_assets=../shared/data/makehuman
-if [ -d "$mh_assets" ]; then
-  for sex in female male; do
-    mh=build/makehuman-$sex.npz
-    # Rebuilt when older than the CLI: a model built by an older MakeHuman importer would show
-    # its body, not today's.
-    [ "$mh" -nt "$c" ] || $c model build makehuman --assets "$mh_assets" --sex "$sex" -o "$mh" >/dev/null
-    if [ "$sex" = female ]; then m=(--height 165 --weight 62); else m=(--height 178 --weight 82); fi
-    $c render --model "$mh" --sex "$sex" "${m[@]}" -o "docs/images/makehuman-$sex.png" --views front,side --pose a \
-      --image-width 420 --image-height 700
-    $c render --sex "$sex" "${m[@]}" -o "docs/images/makehuman-mannequin-$sex.png" --views front,side --pose a \
-      --image-width 420 --image-height 700
-  done
-else
-  echo "render-docs: $mh_assets not found; the MakeHuman comparison pictures are left as they are" >&2
-fi
+# project (scripts/makehuman-model.sh builds the model into build/, never committed; docs/makehuman.md).
+for sex in female male; do
+  status=0
+  mh=$(bash scripts/makehuman-model.sh "$sex" 2>"build/makehuman-$sex.log") || status=$?
+  if [ "$status" -eq 3 ]; then
+    echo "render-docs: $(tail -1 "build/makehuman-$sex.log"); the MakeHuman comparison pictures are left as they are" >&2
+    break
+  elif [ "$status" -ne 0 ]; then
+    tail -20 "build/makehuman-$sex.log" >&2; echo "render-docs: building the MakeHuman model failed" >&2; exit 1
+  fi
+  if [ "$sex" = female ]; then m=(--height 165 --weight 62); else m=(--height 178 --weight 82); fi
+  $c render --model "$mh" --sex "$sex" "${m[@]}" -o "docs/images/makehuman-$sex.png" --views front,side --pose a \
+    --image-width 420 --image-height 700
+  $c render --sex "$sex" "${m[@]}" -o "docs/images/makehuman-mannequin-$sex.png" --views front,side --pose a \
+    --image-width 420 --image-height 700
+done

@@ -8,8 +8,8 @@
 # - desktop tool, capture page, mirror, .vrm in three-vrm: the browser tests' own screenshots
 #   (tests/e2e/*.spec.mjs --screenshots, headless Chromium), renamed by the table below;
 # - makehuman-desktop-tool.png: scripts/screenshot-makehuman.mjs with build/makehuman-female.npz
-#   (built from ../shared/data/makehuman when missing or older than the CLI; skipped when that
-#   folder is missing);
+#   (scripts/makehuman-model.sh: built from ../shared/data/makehuman when missing or older than
+#   the CLI; skipped when that folder is missing);
 # - engines-blender-*.png: tests/e2e/blender_render.py in Blender (EEVEE) on exported .fbx files
 #   (skipped when `blender` is missing), the shape keys' three composed by
 #   tests/e2e/blender_side_by_side.py.
@@ -71,18 +71,20 @@ for spec in desktop capture mirror vrm; do
 done
 
 # The desktop tool with a MakeHuman model picked: the built model beside the mannequin ones
-# (rebuilt when older than the CLI, so a changed MakeHuman builder shows).
-mh_assets=../shared/data/makehuman mh=build/makehuman-female.npz
-if [ -d "$mh_assets" ]; then
+# (scripts/makehuman-model.sh rebuilds it when older than the CLI, so a changed MakeHuman builder shows).
+status=0
+mh=$(bash scripts/makehuman-model.sh female 2>"$tmp/makehuman.log") || status=$?
+if [ "$status" -eq 3 ]; then
+  say "$(tail -1 "$tmp/makehuman.log"): makehuman-desktop-tool.png is left as it is"
+elif [ "$status" -ne 0 ]; then
+  tail -20 "$tmp/makehuman.log" >&2; say "  FAILED: makehuman-desktop-tool.png" >&2; failed=1
+else
   say "makehuman-desktop-tool.png ..."
   mkdir -p "$tmp/models"
   ln -s "$root"/models/mannequin-*.npz "$root/$mh" "$tmp/models/"
-  if { [ "$mh" -nt "$caliper" ] || "$caliper" model build makehuman --assets "$mh_assets" --sex female -o "$mh" >"$tmp/makehuman.log" 2>&1; } &&
-    CALIPER_MODELS_DIR="$tmp/models" node scripts/screenshot-makehuman.mjs --caliper "$caliper" --screenshots "$out" \
+  if CALIPER_MODELS_DIR="$tmp/models" node scripts/screenshot-makehuman.mjs --caliper "$caliper" --screenshots "$out" \
       >>"$tmp/makehuman.log" 2>&1; then say "  makehuman-desktop-tool.png"
   else tail -20 "$tmp/makehuman.log" >&2; say "  FAILED: makehuman-desktop-tool.png" >&2; failed=1; fi
-else
-  say "$mh_assets not found: makehuman-desktop-tool.png is left as it is (docs/makehuman.md)"
 fi
 
 # Blender: the engine checks' avatars (tests/e2e/export-engine-avatars.sh) posed by
