@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Regenerates the tables of docs/makehuman.md, "Evaluation next to the built-in body": caliper
-# eval (R2–R6, no added noise, seed 1) on the built-in body and on the MakeHuman body built here,
+# eval (the paper's R2, R4, R5 and R6, no added noise, seed 1) on the built-in body and on the MakeHuman body built here,
 # for both sexes, then tools/makehuman-report.mjs. Raw JSON in build/makehuman-eval/.
 # Usage: scripts/compare-makehuman.sh [ANSUR_DIR]   (default ../shared/data/ansur2; MakeHuman's
 # assets as scripts/makehuman-model.sh finds them). About a minute once the models are built.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ansur="${1:-../shared/data/ansur2}"
-[ -f "$ansur/ANSUR_II_FEMALE_dev.csv" ] || { echo "ANSUR II development data not found in $ansur" >&2; exit 4; }
+for sex in FEMALE MALE; do
+  [ -f "$ansur/ANSUR_II_${sex}_dev.csv" ] || { echo "ANSUR II development data not found in $ansur" >&2; exit 4; }
+done
 bash scripts/build.sh >/dev/null
 out=build/makehuman-eval
 mkdir -p "$out"

@@ -36,7 +36,7 @@ $c render --sex male --height 178 --weight 111 -o docs/images/mannequin-heavy-ma
 for sex in female male; do
   status=0
   mh=$(bash scripts/makehuman-model.sh "$sex" 2>"build/makehuman-$sex.log") || status=$?
-  if [ "$status" -eq 3 ]; then
+  if [ "$status" -eq 77 ]; then
     echo "render-docs: $(tail -1 "build/makehuman-$sex.log"); the MakeHuman comparison pictures are left as they are" >&2
     break
   elif [ "$status" -ne 0 ]; then

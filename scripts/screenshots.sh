@@ -74,7 +74,7 @@ done
 # (scripts/makehuman-model.sh rebuilds it when older than the CLI, so a changed MakeHuman builder shows).
 status=0
 mh=$(bash scripts/makehuman-model.sh female 2>"$tmp/makehuman.log") || status=$?
-if [ "$status" -eq 3 ]; then
+if [ "$status" -eq 77 ]; then
   say "$(tail -1 "$tmp/makehuman.log"): makehuman-desktop-tool.png is left as it is"
 elif [ "$status" -ne 0 ]; then
   tail -20 "$tmp/makehuman.log" >&2; say "  FAILED: makehuman-desktop-tool.png" >&2; failed=1

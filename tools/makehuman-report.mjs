@@ -8,13 +8,19 @@ const [dir, docPath] = process.argv.slice(2);
 if (!dir || !docPath) { console.error('usage: node tools/makehuman-report.mjs DIR DOC.md'); process.exit(2); }
 const begin = '<!-- makehuman-eval:begin (scripts/compare-makehuman.sh) -->';
 const end = '<!-- makehuman-eval:end -->';
-const load = (sex, body) => JSON.parse(fs.readFileSync(path.join(dir, `${sex}-${body}.json`), 'utf8'));
 const regressors = ['R2', 'R4', 'R5', 'R6'];
 const inputs = ['stature', 'weight', 'span', 'crotchheight', 'hipbreadth', 'armlength'];
-const f = x => Number(x).toFixed(2);
-const mae = e => e.mae_cm ?? e.mae_kg;
-// "built-in / MakeHuman" for one statistic, or '' where neither has it.
-const pair = (a, b) => (a === undefined || b === undefined ? '' : `${f(a)} / ${f(b)}`);
+function load(sex, body) {
+  const file = path.join(dir, `${sex}-${body}.json`);
+  const d = JSON.parse(fs.readFileSync(file, 'utf8'));
+  for (const r of regressors)
+    if (!d.regressors?.[r]?.inputs || !d.regressors[r].held_out) { console.error(`${file}: no results for ${r}`); process.exit(1); }
+  return d;
+}
+// A statistic (null, as JSON writes NaN, or missing: '–').
+const f = x => (typeof x === 'number' && Number.isFinite(x) ? x.toFixed(2) : '–');
+const mae = e => e?.mae_cm ?? e?.mae_kg;
+const pair = (a, b) => `${f(a)} / ${f(b)}`;  // built-in / MakeHuman
 
 const lines = [begin, ''];
 const p = (s = '') => lines.push(s);
@@ -30,28 +36,29 @@ for (const sex of ['female', 'male']) {
   p(`| regressor | ${inputs.join(' | ')} |`);
   p(`|---|${inputs.map(() => '---').join('|')}|`);
   for (const r of regressors) {
-    const cells = inputs.map(c => {
-      const a = own.regressors[r].inputs[c], b = mh.regressors[r].inputs[c];
-      return a && b ? pair(mae(a), mae(b)) : '';
-    });
+    // Blank where the regressor does not take that input.
+    const cells = inputs.map(c => (c in own.regressors[r].inputs || c in mh.regressors[r].inputs
+      ? pair(mae(own.regressors[r].inputs[c]), mae(mh.regressors[r].inputs[c])) : ''));
     p(`| ${r} | ${cells.join(' | ')} |`);
   }
   p();
   p(`**${who}, held-out accuracy** (avatar − ANSUR measurement, MAE in cm):`);
   p();
-  const columns = [...new Set(regressors.flatMap(r => Object.keys(own.regressors[r].held_out)))].sort();
+  const columns = [...new Set(regressors.flatMap(r => [own, mh].flatMap(d => Object.keys(d.regressors[r].held_out))))].sort();
   p(`| measurement | ${regressors.join(' | ')} |`);
   p(`|---|${regressors.map(() => '---').join('|')}|`);
   for (const c of columns) {
-    const cells = regressors.map(r => {
-      const a = own.regressors[r].held_out[c], b = mh.regressors[r].held_out[c];
-      return a && b ? pair(a.mae_cm, b.mae_cm) : '*input*';
-    });
+    // An input of the regressor is not held out; a value missing from one body shows as '–'.
+    const cells = regressors.map(r => (c in own.regressors[r].inputs
+      ? '*input*' : pair(mae(own.regressors[r].held_out[c]), mae(mh.regressors[r].held_out[c]))));
     p(`| ${c} | ${cells.join(' | ')} |`);
   }
   p();
-  const share = (d, r) => `${(100 * d.regressors[r].implausible_share).toFixed(1)} %`;
-  p(`Implausible avatars, ${who.toLowerCase()}, built-in / MakeHuman: ` +
+  const share = (d, r) => {
+    const x = d.regressors[r].implausible_share;
+    return typeof x === 'number' ? `${(100 * x).toFixed(1)} %` : '–';
+  };
+  p(`Implausible avatars (rarer than 1 in 1,000 people of each model's population), ${who.toLowerCase()}, built-in / MakeHuman: ` +
     regressors.map(r => `${r} ${share(own, r)} / ${share(mh, r)}`).join(', ') + '.');
 }
 p();

@@ -17,9 +17,9 @@ Vertices vertex_normals(const Vertices& vertices, const Faces& faces) {
     // angle); the corner's weight divides it by its two edges' squared lengths.
     const Eigen::Vector3d n = (b - a).cross(c - a);
     const double ab = (b - a).squaredNorm(), bc = (c - b).squaredNorm(), ca = (a - c).squaredNorm();
-    const std::array<double, 3> lengths = {ab * ca, ab * bc, bc * ca};  // at a, b, c
+    const std::array<double, 3> edge_products = {ab * ca, ab * bc, bc * ca};  // at a, b, c
     for (int k = 0; k < 3; ++k)
-      if (lengths[static_cast<size_t>(k)] > 0) normals.row(faces(f, k)) += (n / lengths[static_cast<size_t>(k)]).transpose();
+      if (edge_products[static_cast<size_t>(k)] > 0) normals.row(faces(f, k)) += (n / edge_products[static_cast<size_t>(k)]).transpose();
   }
   for (Eigen::Index v = 0; v < normals.rows(); ++v) {
     const double len = normals.row(v).norm();

@@ -49,11 +49,11 @@ class MonotoneCurve {
   std::vector<double> x_, y_, m_;
 };
 
-// One quintic Hermite segment over [x0, x1]: the value, slope and second derivative given at
-// both ends, so a profile made of it and its neighbours is continuous in curvature (a shaded
+// One quintic Hermite segment between two ends: the value, slope and second derivative given at
+// both, so a profile made of it and its neighbours is continuous in curvature (a shaded
 // surface shows a jump in curvature as a band; the monotone curve above is only C¹).
 struct QuinticEnd {
-  double x = 0, y = 0, slope = 0, curvature = 0;  // curvature: the second derivative d²y/dx²
+  double x = 0, y = 0, slope = 0, second_derivative = 0;  // dy/dx and d²y/dx² at x
 };
 inline double quintic_hermite(const QuinticEnd& a, const QuinticEnd& b, double x) {
   const double h = b.x - a.x, t = std::clamp((x - a.x) / h, 0.0, 1.0);
@@ -61,7 +61,7 @@ inline double quintic_hermite(const QuinticEnd& a, const QuinticEnd& b, double x
   const double h0 = 1 - 10 * t3 + 15 * t4 - 6 * t5, h1 = t - 6 * t3 + 8 * t4 - 3 * t5;
   const double h2 = 0.5 * (t2 - 3 * t3 + 3 * t4 - t5), h3 = 0.5 * (t3 - 2 * t4 + t5);
   const double h4 = -4 * t3 + 7 * t4 - 3 * t5, h5 = 10 * t3 - 15 * t4 + 6 * t5;
-  return h0 * a.y + h * h1 * a.slope + h * h * h2 * a.curvature + h * h * h3 * b.curvature + h * h4 * b.slope + h5 * b.y;
+  return h0 * a.y + h * h1 * a.slope + h * h * h2 * a.second_derivative + h * h * h3 * b.second_derivative + h * h4 * b.slope + h5 * b.y;
 }
 
 inline double smoothstep(double e0, double e1, double x) {

@@ -142,7 +142,8 @@ constexpr double kCleftDepth = 0.035, kCleftWidth = 0.024;
 // the hip ring: full, then rounding under.
 constexpr double kThighForward = 0.08;
 constexpr double kSeatRoundUnder = 3.0;
-constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
+constexpr int kDomeRings = 12;
+constexpr double kOcciputMaxBend = 20;  // plan_body(): the nape-to-occiput quintic's bound  // rings above the glabella ring before the pole
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
 constexpr double kEarDensity = 2.0;   // and across the ears
 // In head centimetres (sculpt()): the nose's wings' middles from the midline and their radius
@@ -459,10 +460,13 @@ void fit_section_depths(TorsoRing& r, double front, double back, const ChestFram
 // over 2 starts without curvature, though, while the head under its widest ring is curved: the
 // back of the head showed a band along the glabella ring. So the sides and the back (not the
 // forehead, which stays upright) give up ½ kDomeBase u² (1 − u)² of their scale at height u over
-// the glabella ring (a share of the dome's height): they curve in from the start, as an ellipse
-// does (c''(0) = −kDomeBase), and the crown is as it was (at most 3 % off, halfway up; with
-// (1 − u)⁴ the curvature was gone 1.3 cm up, which only moved the band).
+// the glabella ring (a share of the dome's height): their scale's second derivative in u starts
+// at −kDomeBase, as an ellipse's does, instead of 0, and the crown is as it was (at most 3.4 %
+// narrower, about halfway up; with (1 − u)⁴ the curvature was gone 1.3 cm up, which only moved
+// the band).
 constexpr double kDomeE = 2.6, kDomeBase = 1.0;
+// The superellipse angle at height u over the glabella ring (a share of the dome's height).
+double dome_angle(double u) { return std::asin(std::pow(u, kDomeE / 2)); }
 TorsoRing dome_ring(const TorsoRing& glabella, double vertex_y, double hs, double th) {
   TorsoRing r = glabella;
   const double u = std::pow(std::sin(th), 2 / kDomeE);
@@ -1265,7 +1269,8 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     fit_torso_ring(g, d.headb, d.headl, 0.48, d.headc, {.p_min = 1.8, .p_max = 10.0});
     K[kGlabella] = g;
     // At the nose the skull's back is nearly as full as at the glabella (the occiput rounds off
-    // below it), or the back of the head shows a groove under the glabella ring.
+    // below it). That back only places the nape's hollow: the profile from the nape to the
+    // occiput (below) redraws the backs of the rings from C7 up to the glabella ring.
     r.y = y_nose; r.a = 0.92 * hb2; r.df = 0.91 * hl2; r.db = 0.93 * g.db; r.p = 0.5 * (2.2 + g.p);
     r.chin = 0; r.nose = 0;  // the nose itself: sculpt()
     r.front_taper = 0.15;
@@ -1287,7 +1292,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   // A knot on the dome (as the dome rings below compute it) gives the head's profile a level
   // tangent at the glabella ring, its widest: the face rings meet the dome without a band.
   {
-    const TorsoRing r = dome_ring(K[kGlabella], d.S, hs, std::asin(std::pow(0.3, kDomeE / 2)));
+    const TorsoRing r = dome_ring(K[kGlabella], d.S, hs, dome_angle(0.3));
     ky.push_back(r.y); ka.push_back(r.a); kdf.push_back(r.df); kdb.push_back(r.db);
     kcz.push_back(r.cz); kp.push_back(r.p); kbust.push_back(0); kglute.push_back(0); kcleft.push_back(0);
     knose.push_back(0); kchin.push_back(0); kfront_taper.push_back(0); kflare.push_back(0); kback_squareness.push_back(0);
@@ -1405,10 +1410,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   }
   // The nape and the occiput: the backs of the rings from the cervicale up to the glabella ring
   // follow one smooth profile. From C7 the back of the neck leans forward into the nape's hollow,
-  // halfway up to the nose ring's back and 1.2 head-centimetres in front of the fuller of the two
-  // (a monotone cubic through C7 and the hollow, its slope at C7 set by the ring under it); from
-  // the hollow the skull rounds out behind to the glabella ring's back, the head's longest point,
-  // on a quintic that meets the dome there in slope and curvature. Before (2026-11-28) the back
+  // halfway up to the nose ring's back and 1.2 head-centimetres in front of both (a monotone cubic
+  // through the ring under C7, C7 and the hollow); from the hollow the skull rounds out behind to
+  // the glabella ring's back, the head's longest point, on a quintic that meets the neck's curve
+  // and the dome in slope and second derivative. Before (2026-11-28) the back
   // of the neck stood straight from the shoulders into the skull, a pipe; until 2026-11-29 the
   // profile ended at the nose ring, whose own back and the glabella ring's met it with a kink,
   // and the back of the head showed a band at each (its curvature went from −18°/cm to +10°/cm
@@ -1430,11 +1435,17 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double neck_curvature = (neck(y_nape) - 2 * neck(y_nape - e) + neck(y_nape - 2 * e)) / (e * e);
     const double dome_h = d.S - K[kGlabella].y, du = e / dome_h;
     auto dome_back_z = [&](double u) {
-      const TorsoRing r = dome_ring(K[kGlabella], d.S, hs, std::asin(std::pow(u, kDomeE / 2)));
+      const TorsoRing r = dome_ring(K[kGlabella], d.S, hs, dome_angle(u));
       return r.cz - r.db;
     };
     const double dome_curvature = (dome_back_z(0) - 2 * dome_back_z(du) + dome_back_z(2 * du)) / (e * e);
-    const QuinticEnd hollow{y_nape, z_nape, 0.0, neck_curvature}, occiput{back_y(kgl), back_z(kgl), 0.0, dome_curvature};
+    // Bounded so the quintic cannot swing back past its ends: with level ends it stays monotone
+    // while each end's h²|z''| / |Δz| is at most kOcciputMaxBend (checked numerically over the
+    // whole square; with the other end's at 0 it turns back past 20.5). No development body
+    // reaches it; some men's necks pass 12.
+    const double h = back_y(kgl) - y_nape, bend = kOcciputMaxBend * std::abs(back_z(kgl) - z_nape) / (h * h);
+    const QuinticEnd hollow{y_nape, z_nape, 0.0, std::clamp(neck_curvature, -bend, bend)};
+    const QuinticEnd occiput{back_y(kgl), back_z(kgl), 0.0, std::clamp(dome_curvature, -bend, bend)};
     for (int k = kc + 1; k < kgl; ++k) {
       const double y = back_y(k);
       P.torso[static_cast<size_t>(k)].db = P.torso[static_cast<size_t>(k)].cz - (y <= y_nape ? neck(y) : quintic_hermite(hollow, occiput, y));

@@ -123,7 +123,7 @@ TEST(Geometry, NormalsOfCubeCornerPointOutwards) {
 // Rings on a unit sphere, 1° of latitude apart below the equator and 15° above it (as the body's
 // rings are 1.6 mm apart under the head's widest ring and 13 mm over it): every vertex's normal is
 // its radius, the equator's too. Weighting the faces by area tilted the equator's normals about
-// 6° toward the larger faces above, a band in the shading.
+// 7° toward the larger faces above, a band in the shading.
 TEST(Geometry, NormalsOnUnevenRingsOfASphereAreRadial) {
   std::vector<double> latitudes;
   for (int d = -30; d <= 0; ++d) latitudes.push_back(d);

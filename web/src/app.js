@@ -3,7 +3,7 @@
 // documented JSON API (docs/api.md); three.js is served locally (see build.mjs).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
-import { ApiError, api, decodeBase64 } from './shared.js';
+import { ApiError, api, decodeBase64, setVertexNormals } from './shared.js';
 
 // ---------------------------------------------------------------------------------------------
 // API
@@ -212,7 +212,7 @@ const viewer = (() => {
     } else {
       mesh.geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
     }
-    mesh.geometry.computeVertexNormals();
+    setVertexNormals(mesh.geometry);
     mesh.geometry.computeBoundingSphere();
     const first = !viewer.hasBody;
     height = stature;
@@ -266,7 +266,7 @@ const viewer = (() => {
       const g = new THREE.BufferGeometry();
       g.setIndex(new THREE.BufferAttribute(faces, 1));
       g.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-      g.computeVertexNormals();
+      setVertexNormals(g);
       ghost = new THREE.Mesh(g, ghostMaterial);
       ghost.renderOrder = 1;
       scene.add(ghost);

@@ -6,7 +6,7 @@
 // this page's own notes are in docs/capture-page.md.
 import * as THREE from 'three';
 import qrcode from 'qrcode-generator';
-import { ApiError, api as request, decodeBase64 } from './shared.js';
+import { ApiError, api as request, decodeBase64, setVertexNormals } from './shared.js';
 
 // ---------------------------------------------------------------------------------------------
 // API
@@ -857,7 +857,7 @@ async function buildAvatar() {
   const g = new THREE.BufferGeometry();
   g.setIndex(new THREE.BufferAttribute(faces, 1));
   g.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-  g.computeVertexNormals();
+  setVertexNormals(g);
   for (const c of [...avatarGroup.children]) { avatarGroup.remove(c); c.geometry.dispose(); }
   avatarGroup.add(new THREE.Mesh(g, avatarMaterial));
   state.avatar = { report: res.report, regressor: res.report.regressor };

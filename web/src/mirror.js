@@ -11,6 +11,7 @@ import {
   ApiError, sessionModel, setModel, importSet, glbModel, blendBodies, currentTask, answerTask,
   localTasks, startLocalTask,
 } from './mirror-body.js';
+import { setVertexNormals } from './shared.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -190,7 +191,7 @@ function buildAvatar(model) {
   geometry.setAttribute('skinIndex', new THREE.Uint16BufferAttribute(model.skinIndex, 4));
   geometry.setAttribute('skinWeight', new THREE.Float32BufferAttribute(model.skinWeight, 4));
   setFacesHeadLast(geometry, model);
-  geometry.computeVertexNormals();
+  setVertexNormals(geometry);
   const bones = model.jointNames.map((name) => Object.assign(new THREE.Bone(), { name }));
   const mesh = new THREE.SkinnedMesh(geometry, [bodyMaterial, headMaterial]);
   model.parents.forEach((p, i) => (p >= 0 ? bones[p] : mesh).add(bones[i]));
@@ -243,7 +244,7 @@ function showWeightChange(pct) {
   state.pct = blendBodies(state.model, pct, avatar.vertices, avatar.joints);
   const g = avatar.mesh.geometry;
   g.attributes.position.needsUpdate = true;
-  g.computeVertexNormals();
+  setVertexNormals(g);
   setRest();
 }
 
