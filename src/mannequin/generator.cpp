@@ -142,8 +142,8 @@ constexpr double kCleftDepth = 0.035, kCleftWidth = 0.024;
 // the hip ring: full, then rounding under.
 constexpr double kThighForward = 0.08;
 constexpr double kSeatRoundUnder = 3.0;
-constexpr int kDomeRings = 12;
-constexpr double kOcciputMaxBend = 20;  // plan_body(): the nape-to-occiput quintic's bound  // rings above the glabella ring before the pole
+constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
+constexpr double kOcciputMaxBend = 20;  // plan_body(): the bound on the nape-to-occiput quintic's ends
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
 constexpr double kEarDensity = 2.0;   // and across the ears
 // In head centimetres (sculpt()): the nose's wings' middles from the midline and their radius
