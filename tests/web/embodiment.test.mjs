@@ -5,18 +5,8 @@
 // skeleton with SMPL-H's finger joints), and no NaN on random or broken input.
 // Expected values come from the geometry of the set-up (targets placed by the test, bone lengths
 // of the hand-built rig), never from the driver's own output.
-import { createRequire } from 'node:module';
-import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath } from 'node:url';
-
-const root = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
-try {
-  createRequire(join(root, 'web', 'package.json')).resolve('three');
-} catch {
-  console.log('SKIP: three is not installed in web/ (run scripts/install-deps.sh)');
-  process.exit(process.env.CALIPER_REQUIRE_TOOLS === '1' ? 1 : 77);
-}
-const { BodyDriver, XR_HAND_JOINTS, wristInGrip } = await import(join(root, 'web', 'src', 'embodiment.js'));
+import { webSource } from './web-source.mjs';
+const { BodyDriver, XR_HAND_JOINTS, wristInGrip } = await webSource('embodiment.js');
 
 // SMPL's 24 joints, T-pose, facing +Z, the body's left on +X, metres, feet on y = 0.
 const JOINTS = {

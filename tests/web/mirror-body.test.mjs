@@ -2,19 +2,9 @@
 // contract's mirror-body answer (nested or flat arrays), refusing bodies that disagree in size,
 // blending between neighbouring weight changes, and the page's local task stand-in.
 // Expected values are written by hand from the tiny bodies below, not taken from the code.
-import { createRequire } from 'node:module';
-import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath } from 'node:url';
-
-const root = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
-try {
-  createRequire(join(root, 'web', 'package.json')).resolve('three');
-} catch {
-  console.log('SKIP: three is not installed in web/ (run scripts/install-deps.sh)');
-  process.exit(process.env.CALIPER_REQUIRE_TOOLS === '1' ? 1 : 77);
-}
+import { webSource } from './web-source.mjs';
 const { fromContract, blendBodies, startLocalTask, answerTask, currentTask, localTasks } =
-  await import(join(root, 'web', 'src', 'mirror-body.js'));
+  await webSource('mirror-body.js');
 
 let failures = 0;
 function check(ok, what, detail = '') {

@@ -3,20 +3,9 @@
 // with faces on both sides has its radius as normal. three.js's computeVertexNormals (area
 // weighting) tilts the equator's normals about 7° toward the larger faces above; the test checks
 // that too, so it shows the difference it is about.
-import { createRequire } from 'node:module';
-import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath } from 'node:url';
-
-const root = resolve(dirname(fileURLToPath(import.meta.url)), '..', '..');
-try {
-  createRequire(join(root, 'web', 'package.json')).resolve('three');
-} catch {
-  console.log('SKIP: three is not installed in web/ (run scripts/install-deps.sh)');
-  process.exit(process.env.CALIPER_REQUIRE_TOOLS === '1' ? 1 : 77);
-}
-const { vertexNormals } = await import(join(root, 'web', 'src', 'shared.js'));
-const threeModule = await import(createRequire(join(root, 'web', 'package.json')).resolve('three'));
-const THREE = threeModule.BufferGeometry ? threeModule : threeModule.default;  // the CommonJS build under node
+import { three, webSource } from './web-source.mjs';
+const { vertexNormals } = await webSource('shared.js');
+const THREE = await three();
 
 let failures = 0;
 function check(ok, what, detail = '') {
