@@ -42,9 +42,13 @@ for sex in female male; do
   elif [ "$status" -ne 0 ]; then
     tail -20 "build/makehuman-$sex.log" >&2; echo "render-docs: building the MakeHuman model failed" >&2; exit 1
   fi
-  if [ "$sex" = female ]; then m=(--height 165 --weight 62); else m=(--height 178 --weight 82); fi
-  $c render --model "$mh" --sex "$sex" "${m[@]}" -o "docs/images/makehuman-$sex.png" --views front,side --pose a \
-    --image-width 420 --image-height 700
-  $c render --sex "$sex" "${m[@]}" -o "docs/images/makehuman-mannequin-$sex.png" --views front,side --pose a \
-    --image-width 420 --image-height 700
+  # name, height (cm), weight (kg): the mean body, then the issue's thin and heavy ones
+  if [ "$sex" = female ]; then bodies=("female 165 62" "short-heavy 153 88")
+  else bodies=("male 178 82" "tall-thin 193 72" "heavy-man 178 111"); fi
+  for body in "${bodies[@]}"; do
+    read -r name height weight <<<"$body"
+    m=(--sex "$sex" --height "$height" --weight "$weight" --views front,side --pose a --image-width 420 --image-height 700)
+    $c render --model "$mh" "${m[@]}" -o "docs/images/makehuman-$name.png"
+    $c render "${m[@]}" -o "docs/images/makehuman-mannequin-$name.png"
+  done
 done
