@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates the tables of docs/makehuman.md, "Evaluation next to the built-in body": caliper
-# eval (the paper's R2, R4, R5 and R6, no added noise, seed 1) on the built-in body and on the MakeHuman body built here,
-# for both sexes, then tools/makehuman-report.mjs. Raw JSON in build/makehuman-eval/.
+# eval (the paper's R2, R4, R5 and R6, no added noise, seed 1) on the built-in body and on the
+# MakeHuman body built here, for both sexes, then tools/makehuman-report.mjs. Raw JSON in
+# build/makehuman-eval/.
 # Usage: scripts/compare-makehuman.sh [ANSUR_DIR]   (default ../shared/data/ansur2; MakeHuman's
 # assets as scripts/makehuman-model.sh finds them). About a minute once the models are built.
 set -euo pipefail
