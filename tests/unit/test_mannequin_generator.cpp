@@ -795,9 +795,8 @@ TEST(MannequinGenerator, NapeHollowsUnderTheSkull) {
 // The back of the head curves smoothly from the nape up over the glabella ring: along the back's
 // midline (its vertices, one per ring, from 11 head-cm under the opisthocranion, below the nape's
 // hollow, to 3 over it) no vertex's curvature stands more than 3°/head-cm off the mean of its
-// neighbours', and just over
-// the glabella ring (which carries the opisthocranion) the curvature is within 3°/head-cm of
-// just under it. Before 2026-11-29 the nose ring's back was a kink (27–37°/head-cm off on these
+// neighbours', and just over the glabella ring (which carries the opisthocranion) the curvature is
+// within 3°/head-cm of just under it. Before 2026-11-29 the nose ring's back was a kink (27–37°/head-cm off on these
 // bodies) and the dome started flat over the glabella ring (3.2–4.3°/head-cm less curved than
 // the head under it): a band across the back of the head at each.
 TEST(MannequinGenerator, BackOfTheHeadCurvesSmoothly) {
