@@ -393,14 +393,18 @@ void add_chest_relief(const ChestFrame& F, double x, double y, double front, dou
   const double along = window(y, F.y_w + 2 * cm, F.y_us, F.y_acr - 8 * cm, F.y_acr - 2.5 * cm);
   const double upper = smoothstep(F.y_us - 3 * cm, F.y_us + 4 * cm, y);
   h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, F.female ? 4.5 : 5.0, upper) * cm, 1);
-  // Men: the pectorals' lower border, rising from the sternum to the armpit.
+  // Men: the pectorals' lower border. The muscle stands over the ribs below it: a step, level
+  // across the chest 3.5 cm under the chest ring, rising 5.5 cm into the armpit's front fold from
+  // a third of the half-breadth out; under it the ribs lie up to 1.4 cm lower, easing back out
+  // over 10 cm. The step is spread over 4.5 cm: the rings there lie 2.4–3.4 cm apart, and over
+  // 2.3 cm it folded the chest ring 55°. As a groove along a parabola from the sternum (until
+  // 2026-11-29) the border read as a diagonal crease from each armpit down to the sternum,
+  // worst in the A-pose; shallower (1.1 cm over 2.6 cm), as a line across the chest.
   if (!F.female) {
-    // Shallow and wide: 1.1 cm deep, rising over 2.6 cm above, it drew a line across the chest.
-    const double amp = (1 - F.fem) * 0.9 * cm;
-    const double yb = F.y_ch - 3.2 * cm + 6.5 * cm * sq(x / F.a_ch);
+    const double yb = F.y_ch - 3.5 * cm + 5.5 * cm * smoothstep(0.35, 0.95, x / F.a_ch);
     const double dy = y - yb;
-    const double prof = dy > 0 ? blob(dy, 0, 3.5 * cm, 1) : blob(dy, 0, 6.0 * cm, 1);
-    h -= front * amp * prof * window(x, 1.5 * cm, 4.0 * cm, 0.7 * F.a_ch, 0.9 * F.a_ch);
+    const double under = (1 - smoothstep(-3.5 * cm, 1.0 * cm, dy)) * (dy < 0 ? blob(dy, 0, 10.0 * cm, 1) : 1.0);
+    h -= front * (1 - F.fem) * 1.4 * cm * under * window(x, 1.0 * cm, 3.5 * cm, 0.9 * F.a_ch, 1.15 * F.a_ch);
   }
   // Women: the fold under each breast.
   if (F.fem > 0) {
