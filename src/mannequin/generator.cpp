@@ -1472,7 +1472,12 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // The thigh ring stays below the legs' first ring where that drops under a low seat.
     const double y_th = std::min(y_cr - 0.03 * sc, L[kLegTop].y + std::min(P.seat_drop_side, P.seat_drop_back) - 0.012 * sc);
     L[kThigh].y = y_th;
-    L[kLowerThigh].y = y_kn + 0.11 * sc;
+    // ANSUR takes the lower thigh's girth just above the knee, over the kneecap's top. With its
+    // ring 11 cm over the kneecap's middle (until 2026-11-29) the thigh narrowed to that girth
+    // far too high: on the mean man it lost 9 cm of girth by mid-thigh against MakeHuman's, and
+    // heavy bodies stood on thin, tapering thighs. At 4 cm the heaviest thighs buried the
+    // kneecap (one woman's stood 1.3 mm out of the thigh's front; the check asks 3 mm).
+    L[kLowerThigh].y = y_kn + 0.06 * sc;
     L[kKnee].y = y_kn;
     L[kCalf].y = y_kn - 0.36 * (y_kn - y_ml);
     L[kAnkle].y = y_ml + 0.42 * (L[kCalf].y - y_ml) * 0.35;
