@@ -155,6 +155,9 @@ constexpr double kMouthDroop = 0.35, kMouthLevelHalf = 1.0;
 // under its middle line; the margins' width; how far the eye lies behind the lids' margins.
 constexpr double kEyeX = 3.1, kEyeY = -2.75, kEyeHalfWidth = 1.45, kEyeUp = 0.5, kEyeDown = 0.35;
 constexpr double kEyeMargin = 0.22, kEyeRecess = 0.22;
+// How much deeper the eye lies at the opening's corners than at its middle (a share of
+// kEyeRecess), and the upper lid's rim: its height and width (eye_opening(), face_height()).
+constexpr double kEyeCornerRecess = 1.0, kLidRim = 0.08, kLidRimWidth = 0.3;
 // The ear, in head centimetres from the glabella (Y up, scaled by the face's height; Z forward
 // of the head's centre): its centre and half-height and half-width.
 constexpr double kEarY = -4.3, kEarZ = -1.1, kEarRY = 2.8, kEarRZ = 1.7;
@@ -2710,16 +2713,18 @@ double ear_zone(double Y, double Z) {
   return (1 - smoothstep(1.0, 2.4, std::abs(Y - kEarY) / kEarRY)) * (1 - smoothstep(1.0, 1.6, std::abs(Z - kEarZ) / kEarRZ));
 }
 
+// The upper and the lower lid's line (their heights Y) at X.
+std::pair<double, double> lids(double X) {
+  const double s = std::clamp((X - kEyeX) / kEyeHalfWidth, -1.0, 1.0), w = 1 - s * s, mid = kEyeY + 0.05 * s;
+  return {mid + kEyeUp * w * (1 - 0.25 * s), mid - kEyeDown * w * (1 + 0.2 * s)};
+}
+
 // The eye's opening (the palpebral fissure), in head centimetres: 1 inside, 0 outside, over the
 // lids' margins kEyeMargin wide. An almond 2·kEyeHalfWidth from corner to corner; the upper lid's
 // arch is highest toward the nose, the lower lid's lowest toward the ear, and the outer corner
 // lies a little higher than the inner.
 double eye_opening(double X, double Y) {
   if (std::abs(X - kEyeX) >= kEyeHalfWidth) return 0.0;
-  auto lids = [](double x) {  // the upper and the lower lid's line at x
-    const double s = std::clamp((x - kEyeX) / kEyeHalfWidth, -1.0, 1.0), w = 1 - s * s, mid = kEyeY + 0.05 * s;
-    return std::pair{mid + kEyeUp * w * (1 - 0.25 * s), mid - kEyeDown * w * (1 + 0.2 * s)};
-  };
   // Y's distance from each line measured across it, not straight down: toward the corners the
   // lines are steep, and there a vertical margin was a sliver that the columns cut into teeth.
   const double e = 0.01;
@@ -2729,6 +2734,15 @@ double eye_opening(double X, double Y) {
   const double to_up = (up - Y) / std::hypot(1.0, (up1 - up0) / (2 * e));
   const double to_down = (Y - down) / std::hypot(1.0, (down1 - down0) / (2 * e));
   return smoothstep(0, kEyeMargin, to_up) * smoothstep(0, kEyeMargin, to_down);
+}
+
+// The upper lid's rim over its margin (head centimetres): 1 along a band kLidRimWidth wide just
+// over the lid's line, 0 away from it, thinning toward the corners.
+double upper_lid_rim(double X, double Y) {
+  const double s = (X - kEyeX) / kEyeHalfWidth;
+  if (std::abs(s) >= 1) return 0.0;
+  const double over = Y - lids(X).first;
+  return over > -0.05 ? blob(over - 0.5 * kLidRimWidth, 0, 0.5 * kLidRimWidth + 0.05, 1) * std::sqrt(1 - s * s) : 0.0;
 }
 
 // The face's relief, head centimetres outward, at (X, Y) head centimetres from the glabella (X
@@ -2751,7 +2765,12 @@ double face_height(double X, double Y) {
   // The opening between the lids, the eye behind their margins, and the cornea's bulge. On the
   // face's fine rings the margins are crisp lines round an almond; before those (until
   // 2026-11-29) the grid was about 4 mm across and 2.5 mm high, and blobs drew a slit.
-  f -= (kEyeRecess - 0.04 * blob(X - kEyeX, Y - kEyeY, 0.9, 0.6)) * eye_opening(X, Y);
+  // The eye behind the opening curves back toward the corners as a ball does (recessed evenly,
+  // it was lit as evenly as the lids round it: a blank almond), and the upper lid's margin has
+  // a rim, the lid's thickness, thinning toward the corners.
+  const double across = std::clamp((X - kEyeX) / kEyeHalfWidth, -1.0, 1.0);
+  f -= (kEyeRecess * (1 + kEyeCornerRecess * across * across) - 0.04 * blob(X - kEyeX, Y - kEyeY, 0.9, 0.6)) * eye_opening(X, Y);
+  f += kLidRim * upper_lid_rim(X, Y);
   f -= 0.12 * blob(X - 3.0, Y + 2.0, 1.7, 0.45);   // the upper lid's crease
   f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
   f -= 0.25 * blob(X, Y + 1.6, 1.4, 0.8);          // nasion
