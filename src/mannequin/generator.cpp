@@ -155,8 +155,9 @@ constexpr double kMouthDroop = 0.35, kMouthLevelHalf = 1.0;
 // under its middle line; the margins' width; how far the eye lies behind the lids' margins.
 constexpr double kEyeX = 3.1, kEyeY = -2.75, kEyeHalfWidth = 1.45, kEyeUp = 0.5, kEyeDown = 0.35;
 constexpr double kEyeMargin = 0.22, kEyeRecess = 0.22;
-// How much deeper the eye lies at the opening's corners than at its middle (a share of
-// kEyeRecess), and the upper lid's rim: its height and width (eye_opening(), face_height()).
+// How much deeper the eye lies toward the opening's corners than at its middle (a share of
+// kEyeRecess at the corners, falling as the square toward the middle), and the upper lid's rim:
+// its height and the band it stands on (face_height(), upper_lid_rim()).
 constexpr double kEyeCornerRecess = 1.0, kLidRim = 0.08, kLidRimWidth = 0.3;
 // The ear, in head centimetres from the glabella (Y up, scaled by the face's height; Z forward
 // of the head's centre): its centre and half-height and half-width.
@@ -165,6 +166,9 @@ constexpr double kEarY = -4.3, kEarZ = -1.1, kEarRY = 2.8, kEarRZ = 1.7;
 // Leg stations (below the theta ring r0) and intervals.
 enum LegKey { kLegTop, kThigh, kLowerThigh, kKnee, kCalf, kAnkle, kMalleolus, kLegKeyCount };
 constexpr std::array<int, kLegKeyCount - 1> kLegIntervals = {1, 8, 3, 5, 7, 2};
+// The lower thigh's girth ring over the knee ring (m per 1.70 m; plan_body()). The knee's relief
+// ends under it (leg_relief()): sculpt() does not move a girth ring.
+constexpr double kLowerThighOverKnee = 0.06;
 constexpr std::array<double, 7> kFootLevels = {0.78, 0.58, 0.42, 0.29, 0.18, 0.09, 0.035};  // × malleolus height
 constexpr int kFootBreadthRing = 6;  // index into foot rings (+ the sole ring after them)
 // Index into foot rings: the heel's fullest back, which carries the heel landmark (the foot length
@@ -398,11 +402,12 @@ void add_chest_relief(const ChestFrame& F, double x, double y, double front, dou
   h -= front * along * std::lerp(0.3 * g, g, upper) * blob(x, 0, std::lerp(2.5, F.female ? 4.5 : 5.0, upper) * cm, 1);
   // Men: the pectorals' lower border. The muscle stands over the ribs below it: a step, level
   // across the chest 3.5 cm under the chest ring, rising 5.5 cm into the armpit's front fold from
-  // a third of the half-breadth out; under it the ribs lie up to 1.4 cm lower, easing back out
-  // over 10 cm. The step is spread over 4.5 cm: the rings there lie 2.4–3.4 cm apart, and over
-  // 2.3 cm it folded the chest ring 55°. As a groove along a parabola from the sternum (until
-  // 2026-11-29) the border read as a diagonal crease from each armpit down to the sternum,
-  // worst in the A-pose; shallower (1.1 cm over 2.6 cm), as a line across the chest.
+  // a third of the half-breadth out; under it the ribs lie lower, by up to 1 cm about 3 cm under
+  // the border, easing back out within 10 cm of it. The step is spread over 4.5 cm: the rings
+  // there lie 2.4–3.4 cm apart, and over 2.3 cm it folded the chest ring 55°. As a groove along
+  // a parabola from the sternum (until 2026-11-29) the border read as a diagonal crease from
+  // each armpit down to the sternum, worst in the A-pose; deeper and narrower (1.1 cm, rising
+  // over 2.6 cm), as a line across the chest.
   if (!F.female) {
     const double yb = F.y_ch - 3.5 * cm + 5.5 * cm * smoothstep(0.35, 0.95, x / F.a_ch);
     const double dy = y - yb;
@@ -1480,7 +1485,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // far too high: on the mean man it lost 9 cm of girth by mid-thigh against MakeHuman's, and
     // heavy bodies stood on thin, tapering thighs. At 4 cm the heaviest thighs buried the
     // kneecap (one woman's stood 1.3 mm out of the thigh's front; the check asks 3 mm).
-    L[kLowerThigh].y = y_kn + 0.06 * sc;
+    L[kLowerThigh].y = y_kn + kLowerThighOverKnee * sc;
     L[kKnee].y = y_kn;
     L[kCalf].y = y_kn - 0.36 * (y_kn - y_ml);
     L[kAnkle].y = y_ml + 0.42 * (L[kCalf].y - y_ml) * 0.35;
@@ -2713,10 +2718,24 @@ double ear_zone(double Y, double Z) {
   return (1 - smoothstep(1.0, 2.4, std::abs(Y - kEarY) / kEarRY)) * (1 - smoothstep(1.0, 1.6, std::abs(Z - kEarZ) / kEarRZ));
 }
 
+// Where X lies across the eye: −1 at its inner corner, 0 at its middle, 1 at its outer corner.
+double eye_across(double X) { return (X - kEyeX) / kEyeHalfWidth; }
+
 // The upper and the lower lid's line (their heights Y) at X.
 std::pair<double, double> lids(double X) {
-  const double s = std::clamp((X - kEyeX) / kEyeHalfWidth, -1.0, 1.0), w = 1 - s * s, mid = kEyeY + 0.05 * s;
+  const double s = std::clamp(eye_across(X), -1.0, 1.0), w = 1 - s * s, mid = kEyeY + 0.05 * s;
   return {mid + kEyeUp * w * (1 - 0.25 * s), mid - kEyeDown * w * (1 + 0.2 * s)};
+}
+
+// How far (X, Y) lies under the upper lid's line and over the lower lid's, measured across each
+// line, not straight down: toward the corners the lines are steep, and there a vertical
+// distance made the margins slivers that the columns cut into teeth.
+std::pair<double, double> inside_lids(double X, double Y) {
+  const double e = 0.01;
+  const auto [up, down] = lids(X);
+  const auto [up0, down0] = lids(X - e);
+  const auto [up1, down1] = lids(X + e);
+  return {(up - Y) / std::hypot(1.0, (up1 - up0) / (2 * e)), (Y - down) / std::hypot(1.0, (down1 - down0) / (2 * e))};
 }
 
 // The eye's opening (the palpebral fissure), in head centimetres: 1 inside, 0 outside, over the
@@ -2724,25 +2743,19 @@ std::pair<double, double> lids(double X) {
 // arch is highest toward the nose, the lower lid's lowest toward the ear, and the outer corner
 // lies a little higher than the inner.
 double eye_opening(double X, double Y) {
-  if (std::abs(X - kEyeX) >= kEyeHalfWidth) return 0.0;
-  // Y's distance from each line measured across it, not straight down: toward the corners the
-  // lines are steep, and there a vertical margin was a sliver that the columns cut into teeth.
-  const double e = 0.01;
-  const auto [up, down] = lids(X);
-  const auto [up0, down0] = lids(X - e);
-  const auto [up1, down1] = lids(X + e);
-  const double to_up = (up - Y) / std::hypot(1.0, (up1 - up0) / (2 * e));
-  const double to_down = (Y - down) / std::hypot(1.0, (down1 - down0) / (2 * e));
+  if (std::abs(eye_across(X)) >= 1) return 0.0;
+  const auto [to_up, to_down] = inside_lids(X, Y);
   return smoothstep(0, kEyeMargin, to_up) * smoothstep(0, kEyeMargin, to_down);
 }
 
-// The upper lid's rim over its margin (head centimetres): 1 along a band kLidRimWidth wide just
-// over the lid's line, 0 away from it, thinning toward the corners.
+// The upper lid's rim over its margin (head centimetres): 1 over the lid's line, on a band
+// kLidRimWidth wide just over it (and 0.05 either side), 0 away from it, thinning toward the
+// corners.
 double upper_lid_rim(double X, double Y) {
-  const double s = (X - kEyeX) / kEyeHalfWidth;
+  const double s = eye_across(X);
   if (std::abs(s) >= 1) return 0.0;
-  const double over = Y - lids(X).first;
-  return over > -0.05 ? blob(over - 0.5 * kLidRimWidth, 0, 0.5 * kLidRimWidth + 0.05, 1) * std::sqrt(1 - s * s) : 0.0;
+  const double over = -inside_lids(X, Y).first;
+  return blob(over - 0.5 * kLidRimWidth, 0, 0.5 * kLidRimWidth + 0.05, 1) * (1 - s * s);
 }
 
 // The face's relief, head centimetres outward, at (X, Y) head centimetres from the glabella (X
@@ -2768,8 +2781,8 @@ double face_height(double X, double Y) {
   // The eye behind the opening curves back toward the corners as a ball does (recessed evenly,
   // it was lit as evenly as the lids round it: a blank almond), and the upper lid's margin has
   // a rim, the lid's thickness, thinning toward the corners.
-  const double across = std::clamp((X - kEyeX) / kEyeHalfWidth, -1.0, 1.0);
-  f -= (kEyeRecess * (1 + kEyeCornerRecess * across * across) - 0.04 * blob(X - kEyeX, Y - kEyeY, 0.9, 0.6)) * eye_opening(X, Y);
+  const double s_eye = std::clamp(eye_across(X), -1.0, 1.0);
+  f -= (kEyeRecess * (1 + kEyeCornerRecess * s_eye * s_eye) - 0.04 * blob(X - kEyeX, Y - kEyeY, 0.9, 0.6)) * eye_opening(X, Y);
   f += kLidRim * upper_lid_rim(X, Y);
   f -= 0.12 * blob(X - 3.0, Y + 2.0, 1.7, 0.45);   // the upper lid's crease
   f += 0.10 * blob(X - 5.2, Y + 2.6, 0.9, 1.8);    // the socket's outer rim: the eyes are not a band
@@ -3140,10 +3153,13 @@ double leg_relief(const ReliefFrame& F, const LegRing& knee, const LegRing& mall
   h += fr * 0.50 * cm * blob(xl, y - (y_kn + 0.6 * cm), 2.8 * cm, 4.5 * cm);
   h -= fr * 0.30 * cm * (blob(xl - 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm) +
                          blob(xl + 2.3 * cm, y - (y_kn - 2.6 * cm), 1.4 * cm, 1.6 * cm));
-  // The inner thigh's teardrop (vastus medialis) over the knee's inner side, between the knee
-  // ring and the lower thigh's girth ring above it; the hollow behind the knee between the
-  // hamstrings' tendons, centred 1 cm above the knee ring and ending below that girth ring.
-  h += smoothstep(0.2, 0.8, -s) * smoothstep(-0.4, 0.3, c) * 0.45 * cm * blob(0, y - (y_kn + 5.0 * cm), 1, 4.0 * cm);
+  // The inner thigh's teardrop (vastus medialis) over the knee's inner side, filling the span
+  // from the knee ring to the lower thigh's girth ring above it (centred 5 cm up with a 4 cm
+  // reach, as it was under that ring at 11 cm, it crossed the ring at 6 cm, which does not move:
+  // a line round the inner thigh); the hollow behind the knee between the hamstrings' tendons,
+  // centred 1 cm above the knee ring and ending below that girth ring.
+  const double teardrop = 0.5 * kLowerThighOverKnee / 0.01 * cm;  // its centre's height over the knee, and its reach
+  h += smoothstep(0.2, 0.8, -s) * smoothstep(-0.4, 0.3, c) * 0.45 * cm * blob(0, y - (y_kn + teardrop), 1, teardrop);
   h -= smoothstep(0.5, 0.9, -c) * 0.45 * cm * blob(xl, y - (y_kn + 1.0 * cm), 3.0 * cm, 4.5 * cm);
   // The hollows either side of the Achilles tendon, behind the malleoli.
   const double beside_tendon = std::exp(-sq((std::abs(std::remainder(phi, 2 * kPi)) - (kPi - 0.75)) / 0.3));
