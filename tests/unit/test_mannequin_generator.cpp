@@ -882,6 +882,19 @@ TEST(MannequinGenerator, ChestRoundsIntoItsSidesAndWidensBehind) {
   EXPECT_EQ(men, 2);
 }
 
+// ANSUR takes the lower thigh's girth just above the knee: its ring stands 4–8 cm (per 1.70 m)
+// over the knee's (the kneecap's middle) on every sample body. At 11 cm (until 2026-11-29) the
+// thigh narrowed to that girth far too high and heavy bodies stood on thin thighs.
+TEST(MannequinGenerator, LowerThighGirthIsTakenJustAboveTheKnee) {
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const auto& lm = mq::topology().landmarks;
+    const double over = v(lm.at("lower_thigh_left"), 1) - v(lm.at("knee_left"), 1), per = d.at("stature") / 1.70;
+    EXPECT_GE(over, 0.04 * per) << to_string(sex) << ", " << d.at("stature") << " m";
+    EXPECT_LE(over, 0.08 * per) << to_string(sex) << ", " << d.at("stature") << " m";
+  }
+}
+
 TEST(MannequinGenerator, ButtocksMeetInACleft) {
   for (const auto& [d, sex] : sample_bodies()) {
     const Vertices v = mq::generate(d, sex);
