@@ -895,6 +895,29 @@ TEST(MannequinGenerator, LowerThighGirthIsTakenJustAboveTheKnee) {
   }
 }
 
+// The thigh keeps its fullness over the quadriceps' and adductors' bellies and narrows toward
+// the knee in its lower third: halfway down from the thigh's girth section to the lower thigh's,
+// one leg's section keeps at least 70 % of the difference between their girths. Along the smooth
+// curve through the rings (before 2026-11-29) it kept about half, and heavy bodies stood on thin
+// legs.
+TEST(MannequinGenerator, ThighKeepsItsFullnessToMidThigh) {
+  for (const auto& [d, sex] : sample_bodies()) {
+    const Vertices v = mq::generate(d, sex);
+    const auto& lm = mq::topology().landmarks;
+    auto girth = [&](double y) {
+      std::vector<Eigen::Vector2d> flat;
+      for (const auto& p : cut(v, mq::topology().faces, y))
+        if (p.x() > 0) flat.emplace_back(p.x(), p.z());
+      return caliper::convex_hull_perimeter(flat);
+    };
+    const double y_thigh = v(lm.at("thigh_left"), 1), y_lower = v(lm.at("lower_thigh_left"), 1);
+    const double top = girth(y_thigh), lower = girth(y_lower), mid = girth(0.5 * (y_thigh + y_lower));
+    ASSERT_GT(top - lower, 0.05) << to_string(sex) << ", " << d.at("stature") << " m";
+    EXPECT_GE((mid - lower) / (top - lower), 0.7) << to_string(sex) << ", " << d.at("stature") << " m: girths " << top << ", "
+                                                   << mid << ", " << lower << " m";
+  }
+}
+
 TEST(MannequinGenerator, ButtocksMeetInACleft) {
   for (const auto& [d, sex] : sample_bodies()) {
     const Vertices v = mq::generate(d, sex);
