@@ -1239,11 +1239,14 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
   {
     TorsoRing& r = K[kNeck];
     r.y = y_nk;
-    // The ring carrying the neck's girth lies at the neck's base, where the neck is wider than
-    // deep as it spreads into the trapezius (a round ring here made the neck a pipe from the jaw
-    // down to the shoulders). ANSUR measures the girth higher, under the larynx, on a plane
-    // across the neck's axis; our sections are level, and the chin lies about as high as C7.
-    r.a = neck_r * 1.12; r.df = neck_r * 0.90; r.db = neck_r * 0.98; r.p = 2.2;
+    // The ring carrying the neck's girth lies at the neck's base. ANSUR measures the girth
+    // higher, under the larynx, on a plane across the neck's axis; our sections are level, and
+    // the chin lies about as high as C7. The neck leans forward, so a level section through it
+    // is a little deeper than wide (MakeHuman's, at the same measurements, 10.8 × 13.2 cm under
+    // the jaw). At 12 % wider than a circle of its girth and 6 % shallower (before 2026-11-29)
+    // the neck was a broad column from the shoulders to the jaw, which the chin ring, no
+    // narrower than the neck, widened too: from the front a thick neck under a square jaw.
+    r.a = neck_r * 0.98; r.df = neck_r * 1.00; r.db = neck_r * 1.08; r.p = 2.2;
     std::vector<Eigen::Vector2d> pts = torso_polygon(r);
     const double s = d.neckc / convex_hull_perimeter(pts);
     r.a *= s; r.df *= s; r.db *= s;
@@ -1286,12 +1289,13 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double head_cz = K[kNeck].cz + 0.042 * hs;
     TorsoRing r = K[kNeck];
     r.y = y_cv;
-    // Above the neck ring the neck narrows a little toward the jaw, and C7 stands about a
-    // centimetre (18 % of the neck ring's back) in front of the neck ring's back: the back of the
-    // neck leans forward from its base through C7 into the nape. With C7 only 5 % in front
-    // (before 2026-11-29) the back of the neck rose nearly upright to C7 and turned forward
-    // there, and from behind its lower part stood lit under the nape's shade: a collar.
-    r.a *= 0.95; r.db *= 0.82; r.df *= 0.99;
+    // Above the neck ring the neck narrows toward the jaw (by 10 %; 5 % until 2026-11-29), and
+    // C7 stands about a centimetre (18 % of the neck ring's back) in front of the neck ring's
+    // back: the back of the neck leans forward from its base through C7 into the nape. With C7
+    // only 5 % in front (before 2026-11-29) the back of the neck rose nearly upright to C7 and
+    // turned forward there, and from behind its lower part stood lit under the nape's shade: a
+    // collar.
+    r.a *= 0.90; r.db *= 0.82; r.df *= 0.99;
     // The neck's front leans forward up to the floor of the mouth: the cervicale ring (C7 lies
     // at most 6 mm under the chin ring, often more) takes its front kJawFloorFront of the way
     // from its own to the chin's, times the share of the height (neck ring to chin ring) it lies
