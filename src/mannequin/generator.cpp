@@ -170,12 +170,13 @@ constexpr std::array<int, kLegKeyCount - 1> kLegIntervals = {1, 8, 3, 5, 7, 2};
 // ends under it (leg_relief()): sculpt() does not move a girth ring.
 constexpr double kLowerThighOverKnee = 0.06;
 // The late fall of the thigh's girth toward the knee (thigh_fullness()): the power n of
-// early_falloff(). Halfway from the thigh's girth ring to the lower thigh's the thigh keeps 76 %
-// of the difference between them (the smooth curve, about half). At 4 the thigh just above the
-// lower thigh's ring grew too: one heavy woman's kneecap stood 2.8 mm out of the leg's line, under
-// the relief check's 3 mm.
+// early_falloff(). Halfway from the thigh's girth ring to the lower thigh's the thigh keeps 26 % of
+// the difference between them more than the smooth curve does (77–81 % of it on the sample bodies,
+// the curve about half). At 4 the thigh just above the lower thigh's ring grew too: one heavy
+// woman's kneecap stood 2.8 mm out of the leg's line, under the relief check's 3 mm.
 constexpr double kThighFullness = 3.5;
-// The least gap between a leg ring's inner side and the midline (m), before the legs splay.
+// The least gap between a leg ring's inner side and the midline (m), before the legs splay,
+// below the thigh's girth ring (which keeps 4 mm; plan_body()).
 constexpr double kLegMidlineGap = 0.003;
 constexpr std::array<double, 7> kFootLevels = {0.78, 0.58, 0.42, 0.29, 0.18, 0.09, 0.035};  // × malleolus height
 constexpr int kFootBreadthRing = 6;  // index into foot rings (+ the sole ring after them)
@@ -611,9 +612,10 @@ std::array<double, kLegN> foot_angles(const LegRing& r) {
 }
 
 // Between two key rings a section's size may fall off early or late rather than along the smooth
-// curve through the rings. early_falloff(u, n): the share by which g(u) = (1 − u)^n (1 + n u)
-// falls below the cubic 1 − 3u² + 2u³ (negative where it lies above). Both are 1 at u = 0, 0 at
-// u = 1 and flat at either end, so the curve's own slopes carry through the key rings.
+// curve through the rings. early_falloff(u, n) = g(u) − (1 − 3u² + 2u³), g(u) = (1 − u)^n (1 + n u):
+// negative where g lies under the cubic, i.e. where a section that falls early lies under the
+// curve, as a share of the difference between the key rings. Both are 1 at u = 0, 0 at u = 1 and
+// flat at either end, so the curve's own slopes carry through the key rings.
 double early_falloff(double u, double n) {
   return std::pow(1 - u, n) * (1 + n * u) - (1 - 3 * u * u + 2 * u * u * u);
 }
@@ -643,14 +645,19 @@ void fit_leg_circumference(LegRing& r, double c) {
 }
 
 // Scale of the depth alone (front, back, calf) so the ring's hull perimeter is c; the girth grows
-// with the depth, so halving the bracket converges.
+// with the depth, so halving a bracket round the scale converges. (thigh_fullness() only narrows
+// the ring first, so the scale is at least 1; the bracket's top doubles until it holds it.)
 void fit_leg_depth(LegRing& r, double c) {
   const LegRing r0 = r;
+  auto girth_at = [&](double s) {
+    r.bf = r0.bf * s; r.bb = r0.bb * s; r.calf = r0.calf * s;
+    return leg_girth(r);
+  };
   double lo = 0.25, hi = 4.0;
+  for (int i = 0; i < 20 && girth_at(hi) < c; ++i) hi *= 2;
   for (int i = 0; i < 50; ++i) {
     const double s = 0.5 * (lo + hi);
-    r.bf = r0.bf * s; r.bb = r0.bb * s; r.calf = r0.calf * s;
-    (leg_girth(r) < c ? lo : hi) = s;
+    (girth_at(s) < c ? lo : hi) = s;
   }
 }
 
@@ -658,10 +665,11 @@ void fit_leg_depth(LegRing& r, double c) {
 // narrows toward the knee in its lower third. Along the smooth curve from the thigh's girth ring
 // to the lower thigh's it thinned at an even rate: the mean man's thigh halfway down had 51 cm of
 // girth (MakeHuman's body at the same measurements, 57), and heavy bodies stood on thin legs
-// under full hips. The ring r takes on, of the two rings' difference in girth, the share
-// −early_falloff(1 − u, kThighFullness) (a late fall), keeping its shape; it stays no wider out
-// than the thigh's ring and clear of the midline as the key rings are, and what it cannot take in
-// breadth it takes in depth. u: 0 at the thigh ring, 1 at the lower thigh's.
+// under full hips. The ring r gains, of the two rings' difference in girth, the share
+// −early_falloff(1 − u, kThighFullness): mirrored, a section that falls late lies over the curve.
+// It keeps its shape, stays no wider out than the thigh's ring and kLegMidlineGap clear of the
+// midline, as the rings below are, and what it cannot take in breadth it takes in depth.
+// u: 0 at the thigh ring, 1 at the lower thigh's.
 void thigh_fullness(LegRing& r, const LegRing& thigh, const LegRing& lower, double u) {
   const double want = leg_girth(r) - early_falloff(1 - u, kThighFullness) * (leg_girth(thigh) - leg_girth(lower));
   fit_leg_circumference(r, want);
@@ -1242,10 +1250,11 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // The ring carrying the neck's girth lies at the neck's base. ANSUR measures the girth
     // higher, under the larynx, on a plane across the neck's axis; our sections are level, and
     // the chin lies about as high as C7. The neck leans forward, so a level section through it
-    // is a little deeper than wide (MakeHuman's, at the same measurements, 10.8 × 13.2 cm under
-    // the jaw). At 12 % wider than a circle of its girth and 6 % shallower (before 2026-11-29)
-    // the neck was a broad column from the shoulders to the jaw, which the chin ring, no
-    // narrower than the neck, widened too: from the front a thick neck under a square jaw.
+    // is a little deeper than wide (MakeHuman's, at the same measurements, 10.4–10.7 cm wide and
+    // 13.3–15.0 deep at its narrowest, just under the jaw). At 12 % wider than a circle of its
+    // girth and 6 % shallower (until the evening of 2026-11-29) the neck was a broad column from
+    // the shoulders to the jaw, which the chin ring, no narrower than the neck, widened too: from
+    // the front a thick neck under a square jaw.
     r.a = neck_r * 0.98; r.df = neck_r * 1.00; r.db = neck_r * 1.08; r.p = 2.2;
     std::vector<Eigen::Vector2d> pts = torso_polygon(r);
     const double s = d.neckc / convex_hull_perimeter(pts);
@@ -1289,12 +1298,12 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double head_cz = K[kNeck].cz + 0.042 * hs;
     TorsoRing r = K[kNeck];
     r.y = y_cv;
-    // Above the neck ring the neck narrows toward the jaw (by 10 %; 5 % until 2026-11-29), and
-    // C7 stands about a centimetre (18 % of the neck ring's back) in front of the neck ring's
-    // back: the back of the neck leans forward from its base through C7 into the nape. With C7
-    // only 5 % in front (before 2026-11-29) the back of the neck rose nearly upright to C7 and
-    // turned forward there, and from behind its lower part stood lit under the nape's shade: a
-    // collar.
+    // Above the neck ring the neck narrows toward the jaw (by 10 %; 5 % until the evening of
+    // 2026-11-29), and C7 stands about a centimetre (18 % of the neck ring's back) in front of the
+    // neck ring's back: the back of the neck leans forward from its base through C7 into the
+    // nape. With C7 only 5 % in front (before 2026-11-29) the back of the neck
+    // rose nearly upright to C7 and turned forward there, and from behind its lower part stood
+    // lit under the nape's shade: a collar.
     r.a *= 0.90; r.db *= 0.82; r.df *= 0.99;
     // The neck's front leans forward up to the floor of the mouth: the cervicale ring (C7 lies
     // at most 6 mm under the chin ring, often more) takes its front kJawFloorFront of the way
