@@ -663,9 +663,9 @@ void fit_leg_depth(LegRing& r, double c) {
 
 // The thigh keeps its fullness down over the bellies of the quadriceps and the adductors and
 // narrows toward the knee in its lower third. Along the smooth curve from the thigh's girth ring
-// to the lower thigh's it thinned at an even rate: the mean man's thigh halfway down had 51 cm of
-// girth (MakeHuman's body at the same measurements, 57), and heavy bodies stood on thin legs
-// under full hips. The ring r gains, of the two rings' difference in girth, the share
+// to the lower thigh's it thinned at an even rate: the typical man's thigh halfway down had 52 cm
+// of girth (the 178 cm, 82 kg man's at 40 % of stature 52, MakeHuman's body's at the same
+// measurements 58), and heavy bodies stood on thin legs under full hips. The ring r gains, of the two rings' difference in girth, the share
 // −early_falloff(1 − u, kThighFullness): mirrored, a section that falls late lies over the curve.
 // It keeps its shape, stays no wider out than the thigh's ring and kLegMidlineGap clear of the
 // midline, as the rings below are, and what it cannot take in breadth it takes in depth.
@@ -1301,9 +1301,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // Above the neck ring the neck narrows toward the jaw (by 10 %; 5 % until the evening of
     // 2026-11-29), and C7 stands about a centimetre (18 % of the neck ring's back) in front of the
     // neck ring's back: the back of the neck leans forward from its base through C7 into the
-    // nape. With C7 only 5 % in front (before 2026-11-29) the back of the neck
-    // rose nearly upright to C7 and turned forward there, and from behind its lower part stood
-    // lit under the nape's shade: a collar.
+    // nape. With C7 only 5 % in front (before 2026-11-29) the back of the neck rose nearly
+    // upright to C7 and turned forward there, and from behind its lower part stood lit under the
+    // nape's shade: a collar.
     r.a *= 0.90; r.db *= 0.82; r.df *= 0.99;
     // The neck's front leans forward up to the floor of the mouth: the cervicale ring (C7 lies
     // at most 6 mm under the chin ring, often more) takes its front kJawFloorFront of the way
