@@ -457,6 +457,9 @@ Array parse_npy_within(const std::string& bytes, const std::string& name, std::i
         std::size_t len = t.item_size;
         while (len > 0 && p[len - 1] == 0) --len;
         a.strings.emplace_back(reinterpret_cast<const char*>(p), len);
+        // Names and labels go on into JSON and exports, which hold UTF-8 only.
+        if (const auto at = invalid_utf8_offset(a.strings.back()); at != std::string_view::npos)
+          bad(name, "byte string " + std::to_string(k) + " is not valid UTF-8 (byte " + std::to_string(at) + ")");
       }
     }
   } else {

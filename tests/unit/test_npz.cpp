@@ -178,6 +178,17 @@ TEST(Npy, ReadsUnicodeAndBytes) {
   EXPECT_EQ(npz::parse_npy(npy(">U2", "()", be), "x").strings, (std::vector<std::string>{"ab"}));
   EXPECT_EQ(npz::parse_npy(npy("|S4", "(1,)", std::string("csc\0", 4)), "x").strings, (std::vector<std::string>{"csc"}));
   EXPECT_EQ(kind_of([] { npz::parse_npy(npy("<U1", "()", le_bytes<std::uint32_t>({0x110000})), "x"); }), ErrorKind::Format);
+  // Byte strings go on into JSON and exports: one that is not UTF-8 is refused, naming it (the
+  // fuzzer found '\xc1\xb6...' read as is, 2026-11-29).
+  try {
+    npz::parse_npy(npy("|S4", "(2,)", std::string("ok\0\0\xc1\xb6ab", 8)), "labels");
+    ADD_FAILURE() << "invalid UTF-8 accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Format);
+    EXPECT_NE(std::string(e.what()).find("labels"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("byte string 1 is not valid UTF-8"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(npz::parse_npy(npy("|S4", "(1,)", std::string("h\xc3\xa9\0", 4)), "x").strings, (std::vector<std::string>{"h\xc3\xa9"}));
 }
 
 TEST(Npy, ConvertsFortranOrderToCOrder) {
