@@ -181,7 +181,7 @@ TEST(Npy, ReadsUnicodeAndBytes) {
   // Byte strings go on into JSON and exports: one that is not UTF-8 is refused, naming it (the
   // fuzzer found '\xc1\xb6...' read as is, 2026-11-29).
   try {
-    npz::parse_npy(npy("|S4", "(2,)", std::string("ok\0\0\xc1\xb6ab", 8)), "labels");
+    npz::parse_npy(npy("|S4", "(2,)", std::string("ok\0\0\xc1\xb6" "ab", 8)), "labels");
     ADD_FAILURE() << "invalid UTF-8 accepted";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), ErrorKind::Format);
