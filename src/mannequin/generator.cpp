@@ -122,11 +122,25 @@ constexpr double kJawLift = 0.15;
 constexpr double kChinFront = 0.84, kChinBump = 0.006;
 // The neck ring (it carries the neck's girth) lies this far under the chin (m on a 1.70 m body),
 // unless 6 mm under C7 is lower; and the cervicale ring's front leans toward the chin's (see
-// plan_body()), so the neck's front leans forward up to the floor of the mouth. (At 3 cm the
-// throat's bend fell on the torso's side of the neck ring: the women's largest torso
-// 99th-percentile crease was 50.0°, against 42.8° at 2.6 cm and 47.4° before; docs/mannequin.md.)
-constexpr double kNeckBelowChin = 0.026;
-constexpr double kJawFloorFront = 0.5;
+// plan_body()), so the neck's front leans forward up to the floor of the mouth. Below the neck
+// ring the trapezius spreads toward the shoulders, so the closer it lies to the chin, the shorter
+// the column of neck under the jaw. (At 2.6 cm, until 2026-12-07, the neck was a column about
+// 4 cm long from the jaw down, seen from the front and from behind, on shoulders that flared out
+// only at its foot; at 1.2 cm there was hardly any neck under the jaw. At 3 cm the throat's bend
+// fell on the torso's side of the neck ring; docs/mannequin.md.)
+constexpr double kNeckBelowChin = 0.018;
+// The share of the way from its own front to the chin's that the cervicale ring's front takes
+// (times its share of the height from the neck ring to the chin ring). At 0.5 (until 2026-12-07),
+// with the neck ring nearer the chin, the throat leaned up from it so steeply that the neck ring
+// folded at the midline, 8° more on the typical man than with the ring 2.6 cm under the chin.
+constexpr double kJawFloorFront = 0.35;
+// The trapezius' two rings between the shoulders' top and the neck ring (plan_body()). Each stands
+// a share of the way from the shoulders' half-breadth in to the neck's: the lower one
+// kTrapeziusLow; the upper one kTrapeziusHighWide where the neck has the height for it (its slope
+// from the neck ring, half-breadth gained per height, at most kTrapeziusSlope), but never further
+// in than kTrapeziusHighNarrow. Their fronts narrow toward the midline (TorsoRing::front_taper).
+constexpr double kTrapeziusLow = 0.28, kTrapeziusHighWide = 0.55, kTrapeziusHighNarrow = 0.75, kTrapeziusSlope = 1.9;
+constexpr double kTrapeziusLowTaper = 0.10, kTrapeziusHighTaper = 0.25;
 // The legs' outward lean in the rest pose (splay_legs()): the feet stand about hip-width apart.
 constexpr double kLegSplay = 4.0 * kPi / 180;
 constexpr double kLegSplayRamp = 0.10;  // m below the crotch (per 1.70 m) over which the lean sets in
@@ -1268,9 +1282,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     const double neck_front = r.cz + r.df, neck_back = r.cz - r.db;
     TorsoRing s1 = top, s2 = top;
     const double dy = y_nk - y_acr;
-    // The trapezius: from the front the shoulder line falls away from the neck in a nearly straight
-    // slope, bending upright only just under the neck ring (a curve that flattened out toward
-    // the acromion left square shoulders; one that bent at the neck ring itself creased there).
+    // The trapezius: from the front and from behind the shoulder line falls away from the neck in
+    // a nearly straight slope that starts just under the neck ring (a curve that flattened out
+    // toward the acromion left square shoulders; one that rose steeply to the neck ring and bent
+    // upright there, until 2026-12-07, left a column of neck standing on flat shoulders).
     // From the side the upper chest recedes early toward the throat (a front that stayed full up
     // to the shoulders' top would fold there, worst on short necks), and the back of the neck
     // curves out into the upper back: no collar at the neck's base.
@@ -1280,13 +1295,22 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       q.db = q.cz - back;
     };
     s1.y = y_acr + 0.3 * dy;
-    s1.a = top.a - 0.36 * (top.a - r.a);
+    s1.a = top.a - kTrapeziusLow * (top.a - r.a);
     between(s1, std::lerp(top_front, neck_front, 0.6), std::lerp(top_back, neck_back, 0.35));
     s2.y = y_acr + 0.6 * dy;
-    s2.a = std::max(r.a * 1.25, top.a - 0.75 * (top.a - r.a));  // the trapezius' slope
+    // The upper ring as wide as a straight slope from the neck would be, where the height between
+    // it and the neck ring allows that slope; on a short neck (C7 3–4 cm above the acromion) the
+    // neck ring then folded (88° at its front on one woman); there it stays as narrow as before.
+    const double wide = top.a - kTrapeziusHighWide * (top.a - r.a), narrow = top.a - kTrapeziusHighNarrow * (top.a - r.a);
+    s2.a = std::max(r.a * 1.25, std::min(wide, std::max(narrow, r.a + kTrapeziusSlope * (y_nk - s2.y))));
     between(s2, std::lerp(top_front, neck_front, 0.88), std::lerp(top_back, neck_back, 0.8));
     s1.p = 1.9;
     s2.p = 2.0;
+    // Their fronts narrow toward the midline: the trapezius widens the neck's base at the sides and
+    // back, and the hollow above the collarbones stays in front. Widened all round, the rings'
+    // fronts stood out beside the throat and folded the neck ring there (59° on the typical man).
+    s1.front_taper = kTrapeziusLowTaper;
+    s2.front_taper = kTrapeziusHighTaper;
     K[kShoulder1] = s1;
     K[kShoulder2] = s2;
   }
