@@ -135,11 +135,13 @@ constexpr double kNeckBelowChin = 0.018;
 // folded at the midline, 8° more on the typical man than with the ring 2.6 cm under the chin.
 constexpr double kJawFloorFront = 0.35;
 // The trapezius' two rings between the shoulders' top and the neck ring (plan_body()). Each stands
-// a share of the way from the shoulders' half-breadth in to the neck's: the lower one
-// kTrapeziusLow; the upper one kTrapeziusHighWide where the neck has the height for it (its slope
-// from the neck ring, half-breadth gained per height, at most kTrapeziusSlope), but never further
-// in than kTrapeziusHighNarrow. Their fronts narrow toward the midline (TorsoRing::front_taper).
-constexpr double kTrapeziusLow = 0.28, kTrapeziusHighWide = 0.55, kTrapeziusHighNarrow = 0.75, kTrapeziusSlope = 1.9;
+// a share of the way in from the shoulders' half-breadth to the neck's: the lower one
+// kTrapeziusLowIn; the upper one kTrapeziusHighIn, or further in where its slope from the neck
+// ring (half-breadth gained per height) would pass kTrapeziusSlope, but never further in than
+// kTrapeziusHighInMost. Their fronts narrow toward the midline (TorsoRing::front_taper).
+constexpr double kTrapeziusLowIn = 0.28;
+constexpr double kTrapeziusHighIn = 0.55, kTrapeziusHighInMost = 0.75;
+constexpr double kTrapeziusSlope = 1.9;
 constexpr double kTrapeziusLowTaper = 0.10, kTrapeziusHighTaper = 0.25;
 // The legs' outward lean in the rest pose (splay_legs()): the feet stand about hip-width apart.
 constexpr double kLegSplay = 4.0 * kPi / 180;
@@ -1295,13 +1297,14 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       q.db = q.cz - back;
     };
     s1.y = y_acr + 0.3 * dy;
-    s1.a = top.a - kTrapeziusLow * (top.a - r.a);
+    s1.a = top.a - kTrapeziusLowIn * (top.a - r.a);
     between(s1, std::lerp(top_front, neck_front, 0.6), std::lerp(top_back, neck_back, 0.35));
     s2.y = y_acr + 0.6 * dy;
-    // The upper ring as wide as a straight slope from the neck would be, where the height between
-    // it and the neck ring allows that slope; on a short neck (C7 3–4 cm above the acromion) the
-    // neck ring then folded (88° at its front on one woman); there it stays as narrow as before.
-    const double wide = top.a - kTrapeziusHighWide * (top.a - r.a), narrow = top.a - kTrapeziusHighNarrow * (top.a - r.a);
+    // On a short neck (C7 3–4 cm above the acromion) the upper ring at kTrapeziusHighIn folded
+    // the neck ring (88° at its front on one woman): there its slope is held to kTrapeziusSlope,
+    // but it is never narrower than at kTrapeziusHighInMost (until 2026-12-07, every body's).
+    const double wide = top.a - kTrapeziusHighIn * (top.a - r.a);
+    const double narrow = top.a - kTrapeziusHighInMost * (top.a - r.a);
     s2.a = std::max(r.a * 1.25, std::min(wide, std::max(narrow, r.a + kTrapeziusSlope * (y_nk - s2.y))));
     between(s2, std::lerp(top_front, neck_front, 0.88), std::lerp(top_back, neck_back, 0.8));
     s1.p = 1.9;

@@ -805,8 +805,9 @@ TEST(MannequinGenerator, NeckIsNoWiderThanDeepAtItsGirth) {
 
 // The neck flows into the trapezius: the shoulder line starts rising into the neck's side just
 // under C7, so 2.5 cm (per 1.70 m) under C7 the level section (within 15 cm of the midline, clear
-// of the T-posed arms) is at least 1.18 times as wide as at the neck's girth (1.22–1.46 on the
-// sample bodies). With the girth's ring 2.6 cm under the chin and the trapezius' upper ring a
+// of the T-posed arms) is at least 1.16 times as wide as at the neck's girth (1.22–1.46 on the
+// sample bodies; the level follows C7 and lies only 0.8 cm under the girth's on the men, so their
+// margin is small). With the girth's ring 2.6 cm under the chin and the trapezius' upper ring a
 // quarter of the way out from the neck (until 2026-12-07) it was 1.01–1.12 times as wide: a
 // column of neck from the jaw down to flat shoulders, from the front and from behind.
 TEST(MannequinGenerator, NeckFlowsIntoTheTrapezius) {
@@ -824,7 +825,7 @@ TEST(MannequinGenerator, NeckFlowsIntoTheTrapezius) {
     const double cm = 0.01 * d.at("stature") / 1.70;
     const double girth_level = width(v(lm.at("neck_front"), 1)), under_c7 = width(v(lm.at("cervicale"), 1) - 2.5 * cm);
     ASSERT_GT(girth_level, 0.05) << to_string(sex) << ": no section at the neck's girth";
-    EXPECT_GE(under_c7 / girth_level, 1.18) << to_string(sex) << ", " << d.at("stature") << " m: " << under_c7 * 100
+    EXPECT_GE(under_c7 / girth_level, 1.16) << to_string(sex) << ", " << d.at("stature") << " m: " << under_c7 * 100
                                             << " cm wide 2.5 cm under C7, " << girth_level * 100 << " at the girth";
   }
 }
