@@ -60,6 +60,17 @@ std::vector<Eigen::Vector3d> cut(const Vertices& v, const Faces& f, double h) {
     }
   return out;
 }
+// The extents of the section y = h within 15 cm of the midline (clear of the T-posed arms near the
+// neck): min and max of x, then of z (x0 > x1 where there is none).
+std::array<double, 4> neck_section_box(const Vertices& v, double h) {
+  std::array<double, 4> box = {1e9, -1e9, 1e9, -1e9};
+  for (const auto& p : cut(v, mq::topology().faces, h)) {
+    if (std::abs(p.x()) > 0.15) continue;
+    box[0] = std::min(box[0], p.x()); box[1] = std::max(box[1], p.x());
+    box[2] = std::min(box[2], p.z()); box[3] = std::max(box[3], p.z());
+  }
+  return box;
+}
 // The section's front-most (sign +1) or back-most (−1) z among points with |x − x0| ≤ half.
 double extreme_z(const std::vector<Eigen::Vector3d>& pts, double x0, double half, int sign) {
   double best = -1e9;
@@ -791,12 +802,7 @@ TEST(MannequinGenerator, NeckIsNoWiderThanDeepAtItsGirth) {
   for (const auto& [d, sex] : sample_bodies()) {
     const Vertices v = mq::generate(d, sex);
     const double y = v(mq::topology().landmarks.at("neck_front"), 1);
-    double x0 = 1e9, x1 = -1e9, z0 = 1e9, z1 = -1e9;
-    for (const auto& p : cut(v, mq::topology().faces, y)) {
-      if (std::abs(p.x()) > 0.15) continue;
-      x0 = std::min(x0, p.x()); x1 = std::max(x1, p.x());
-      z0 = std::min(z0, p.z()); z1 = std::max(z1, p.z());
-    }
+    const auto [x0, x1, z0, z1] = neck_section_box(v, y);
     ASSERT_LT(x0, x1) << to_string(sex) << ": no section at the neck's girth";
     EXPECT_LE(x1 - x0, z1 - z0) << to_string(sex) << ", " << d.at("stature") << " m: " << (x1 - x0) * 100 << " cm wide, "
                                 << (z1 - z0) * 100 << " cm deep";
@@ -815,12 +821,8 @@ TEST(MannequinGenerator, NeckFlowsIntoTheTrapezius) {
     const Vertices v = mq::generate(d, sex);
     const auto& lm = mq::topology().landmarks;
     auto width = [&](double y) {
-      double x0 = 1e9, x1 = -1e9;
-      for (const auto& p : cut(v, mq::topology().faces, y)) {
-        if (std::abs(p.x()) > 0.15) continue;
-        x0 = std::min(x0, p.x()); x1 = std::max(x1, p.x());
-      }
-      return x1 - x0;
+      const auto box = neck_section_box(v, y);
+      return box[1] - box[0];
     };
     const double cm = 0.01 * d.at("stature") / 1.70;
     const double girth_level = width(v(lm.at("neck_front"), 1)), under_c7 = width(v(lm.at("cervicale"), 1) - 2.5 * cm);
