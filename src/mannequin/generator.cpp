@@ -677,19 +677,33 @@ void fit_leg_depth(LegRing& r, double c) {
   }
 }
 
+// How far splay_legs() moves the legs' sections at height y outward: nothing at the crotch, a lean
+// whose slope grows over the first kLegSplayRamp (per 1.70 m, sc) below it, then the whole lean
+// down to the lateral malleolus (foot_y), under which the foot moves as one piece.
+double splay_offset(double y, double crotch_y, double foot_y, double sc) {
+  const double lean = std::tan(kLegSplay), ramp = kLegSplayRamp * sc;
+  const double below = crotch_y - std::max(y, foot_y);
+  if (below <= 0) return 0.0;
+  return below < ramp ? lean * below * below / (2 * ramp) : lean * (below - 0.5 * ramp);
+}
+
 // The thigh keeps its fullness down over the bellies of the quadriceps and the adductors and
 // narrows toward the knee in its lower third. Along the smooth curve from the thigh's girth ring
 // to the lower thigh's it thinned at an even rate: the typical man's thigh halfway down had 52 cm
 // of girth (the 178 cm, 82 kg man's at 40 % of stature 52, MakeHuman's body's at the same
 // measurements 58), and heavy bodies stood on thin legs under full hips. The ring r gains, of the two rings' difference in girth, the share
 // −early_falloff(1 − u, kThighFullness): mirrored, a section that falls late lies over the curve.
-// It keeps its shape, stays no wider out than the thigh's ring and kLegMidlineGap clear of the
-// midline, as the rings below are, and what it cannot take in breadth it takes in depth.
-// u: 0 at the thigh ring, 1 at the lower thigh's.
-void thigh_fullness(LegRing& r, const LegRing& thigh, const LegRing& lower, double u) {
+// It keeps its shape, stays kLegMidlineGap clear of the midline, as the rings below are, and no
+// further out than the thigh's ring once the legs splay: `lean` is how much further out
+// splay_legs() moves it than that ring. Its outer side stood at the thigh ring's and the lean
+// carried it out beyond, 6 mm on the typical woman by mid-thigh (until 2026-12-07): from the
+// front and behind, the side's outline narrowed under the hip into a waist at the crotch and
+// widened again, the buttocks standing out as balls over the thighs. What the ring cannot take
+// in breadth it takes in depth. u: 0 at the thigh ring, 1 at the lower thigh's.
+void thigh_fullness(LegRing& r, const LegRing& thigh, const LegRing& lower, double u, double lean) {
   const double want = leg_girth(r) - early_falloff(1 - u, kThighFullness) * (leg_girth(thigh) - leg_girth(lower));
   fit_leg_circumference(r, want);
-  r.al = std::min(r.al, thigh.xc + thigh.al - r.xc);
+  r.al = std::min(r.al, thigh.xc + thigh.al - lean - r.xc);
   r.am = std::min(r.am, r.xc - kLegMidlineGap);
   fit_leg_depth(r, want);
 }
@@ -1646,7 +1660,10 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
         const double yy = L[key].y + (L[key + 1].y - L[key].y) * i / n;
         LegRing r{yy, cxc(yy), czc(yy), cal(yy), cam(yy), cbf(yy), cbb(yy), cpp(yy), ccalf(yy)};
         if (i == 0) r = L[key];
-        if (key == kThigh && i > 0) thigh_fullness(r, L[kThigh], L[kLowerThigh], static_cast<double>(i) / n);
+        if (key == kThigh && i > 0) {
+          auto splay = [&](double at) { return splay_offset(at, y_cr, y_ml, sc); };
+          thigh_fullness(r, L[kThigh], L[kLowerThigh], static_cast<double>(i) / n, splay(yy) - splay(L[kThigh].y));
+        }
         if (key == kCalf && i > 0) shin_taper(r, L[kCalf], L[kAnkle], static_cast<double>(i) / n);
         P.leg[static_cast<size_t>(k0 + i)] = r;
       }
@@ -3778,15 +3795,10 @@ UvLayout uv_layout(const Vertices& rest) {
 // Returns how far the foot moved out.
 namespace {
 double splay_legs(const BodyPlan& P, double sc, std::vector<Vec3>& v) {
-  const double lean = std::tan(kLegSplay), ramp = kLegSplayRamp * sc;
-  const double y_top = P.crotch_y, y_foot = P.leg[static_cast<size_t>(leg_key_ring(kMalleolus))].y;
-  auto outward = [&](double y) {
-    const double below = y_top - std::max(y, y_foot);
-    if (below <= 0) return 0.0;
-    return below < ramp ? lean * below * below / (2 * ramp) : lean * (below - 0.5 * ramp);
-  };
+  const double y_foot = P.leg[static_cast<size_t>(leg_key_ring(kMalleolus))].y;
+  auto outward = [&](double y) { return splay_offset(y, P.crotch_y, y_foot, sc); };
   for (Vec3& p : v)
-    if (p.y() < y_top && p.x() != 0) p.x() += (p.x() > 0 ? 1 : -1) * outward(p.y());
+    if (p.y() < P.crotch_y && p.x() != 0) p.x() += (p.x() > 0 ? 1 : -1) * outward(p.y());
   return outward(y_foot);
 }
 
