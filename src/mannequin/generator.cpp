@@ -143,6 +143,11 @@ constexpr double kTrapeziusLowIn = 0.28;
 constexpr double kTrapeziusHighIn = 0.55, kTrapeziusHighInMost = 0.75;
 constexpr double kTrapeziusSlope = 1.9;
 constexpr double kTrapeziusLowTaper = 0.10, kTrapeziusHighTaper = 0.25;
+// The two rings' heights, as shares of the height from the acromion to the neck ring; and their
+// fronts' and backs' places, as shares of the way from the shoulders' top ring's to the neck's.
+constexpr double kTrapeziusLowAt = 0.3, kTrapeziusHighAt = 0.6;
+constexpr double kTrapeziusLowFront = 0.6, kTrapeziusLowBack = 0.35;
+constexpr double kTrapeziusHighFront = 0.88, kTrapeziusHighBack = 0.8;
 // The legs' outward lean in the rest pose (splay_legs()): the feet stand about hip-width apart.
 constexpr double kLegSplay = 4.0 * kPi / 180;
 constexpr double kLegSplayRamp = 0.10;  // m below the crotch (per 1.70 m) over which the lean sets in
@@ -948,6 +953,45 @@ struct DigitPlan {
   std::vector<double> half_width, half_thick;  // per ring, metres
 };
 
+// The trapezius' two rings between the shoulders' top (ring `top`, at the acromion's height
+// y_acr) and the neck ring. From the front and from behind the shoulder line falls away from the
+// neck in a nearly straight slope that starts just under the neck ring (a curve that flattened
+// out toward the acromion left square shoulders; one that rose steeply to the neck ring and bent
+// upright there, until 2026-12-07, left a column of neck standing on flat shoulders). From the
+// side the upper chest recedes early toward the throat (a front that stayed full up to the
+// shoulders' top would fold there, worst on short necks), and the back of the neck curves out
+// into the upper back: no collar at the neck's base.
+std::array<TorsoRing, 2> trapezius_rings(const TorsoRing& top, const TorsoRing& neck, double y_acr) {
+  const double top_front = top.cz + top.df, top_back = top.cz - top.db;
+  const double neck_front = neck.cz + neck.df, neck_back = neck.cz - neck.db;
+  const double dy = neck.y - y_acr;
+  auto between = [](TorsoRing& q, double front, double back) {
+    q.cz = 0.5 * (front + back);
+    q.df = front - q.cz;
+    q.db = q.cz - back;
+  };
+  TorsoRing s1 = top, s2 = top;
+  s1.y = y_acr + kTrapeziusLowAt * dy;
+  s1.a = top.a - kTrapeziusLowIn * (top.a - neck.a);
+  between(s1, std::lerp(top_front, neck_front, kTrapeziusLowFront), std::lerp(top_back, neck_back, kTrapeziusLowBack));
+  s2.y = y_acr + kTrapeziusHighAt * dy;
+  // On a short neck (C7 3–4 cm above the acromion) the upper ring at kTrapeziusHighIn folded
+  // the neck ring (88° at its front on one woman): there its slope is held to kTrapeziusSlope,
+  // but it is never narrower than at kTrapeziusHighInMost (until 2026-12-07, every body's).
+  const double wide = top.a - kTrapeziusHighIn * (top.a - neck.a);
+  const double narrow = top.a - kTrapeziusHighInMost * (top.a - neck.a);
+  s2.a = std::max(neck.a * 1.25, std::min(wide, std::max(narrow, neck.a + kTrapeziusSlope * (neck.y - s2.y))));
+  between(s2, std::lerp(top_front, neck_front, kTrapeziusHighFront), std::lerp(top_back, neck_back, kTrapeziusHighBack));
+  s1.p = 1.9;
+  s2.p = 2.0;
+  // Their fronts narrow toward the midline: the trapezius widens the neck's base at the sides and
+  // back, and the hollow above the collarbones stays in front. Widened all round, the rings'
+  // fronts stood out beside the throat and folded the neck ring there (59° on the typical man).
+  s1.front_taper = kTrapeziusLowTaper;
+  s2.front_taper = kTrapeziusHighTaper;
+  return {s1, s2};
+}
+
 struct BodyPlan {  // everything the builder needs, derived from the dimensions
   std::vector<TorsoRing> torso;  // per ring
   std::vector<double> torso_tilt_side, torso_tilt_back;  // per ring: y offsets at the side / back (tilted low ring)
@@ -1292,42 +1336,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // Where the neck stands on the shoulders' top: the depth the neck leaves free there is shared
     // 60 : 40 between the sternal notch in front and the trapezius behind.
     const TorsoRing& top = K[kHoleTop];
-    const double top_front = top.cz + top.df, top_back = top.cz - top.db;
     const double slack = std::max(0.0, (top.df + top.db) - (r.df + r.db));
-    r.cz = top_front - 0.6 * slack - r.df;
-    const double neck_front = r.cz + r.df, neck_back = r.cz - r.db;
-    TorsoRing s1 = top, s2 = top;
-    const double dy = y_nk - y_acr;
-    // The trapezius: from the front and from behind the shoulder line falls away from the neck in
-    // a nearly straight slope that starts just under the neck ring (a curve that flattened out
-    // toward the acromion left square shoulders; one that rose steeply to the neck ring and bent
-    // upright there, until 2026-12-07, left a column of neck standing on flat shoulders).
-    // From the side the upper chest recedes early toward the throat (a front that stayed full up
-    // to the shoulders' top would fold there, worst on short necks), and the back of the neck
-    // curves out into the upper back: no collar at the neck's base.
-    auto between = [](TorsoRing& q, double front, double back) {
-      q.cz = 0.5 * (front + back);
-      q.df = front - q.cz;
-      q.db = q.cz - back;
-    };
-    s1.y = y_acr + 0.3 * dy;
-    s1.a = top.a - kTrapeziusLowIn * (top.a - r.a);
-    between(s1, std::lerp(top_front, neck_front, 0.6), std::lerp(top_back, neck_back, 0.35));
-    s2.y = y_acr + 0.6 * dy;
-    // On a short neck (C7 3–4 cm above the acromion) the upper ring at kTrapeziusHighIn folded
-    // the neck ring (88° at its front on one woman): there its slope is held to kTrapeziusSlope,
-    // but it is never narrower than at kTrapeziusHighInMost (until 2026-12-07, every body's).
-    const double wide = top.a - kTrapeziusHighIn * (top.a - r.a);
-    const double narrow = top.a - kTrapeziusHighInMost * (top.a - r.a);
-    s2.a = std::max(r.a * 1.25, std::min(wide, std::max(narrow, r.a + kTrapeziusSlope * (y_nk - s2.y))));
-    between(s2, std::lerp(top_front, neck_front, 0.88), std::lerp(top_back, neck_back, 0.8));
-    s1.p = 1.9;
-    s2.p = 2.0;
-    // Their fronts narrow toward the midline: the trapezius widens the neck's base at the sides and
-    // back, and the hollow above the collarbones stays in front. Widened all round, the rings'
-    // fronts stood out beside the throat and folded the neck ring there (59° on the typical man).
-    s1.front_taper = kTrapeziusLowTaper;
-    s2.front_taper = kTrapeziusHighTaper;
+    r.cz = top.cz + top.df - 0.6 * slack - r.df;
+    const auto [s1, s2] = trapezius_rings(top, r, y_acr);
     K[kShoulder1] = s1;
     K[kShoulder2] = s2;
   }
