@@ -713,6 +713,25 @@ void thigh_fullness(LegRing& r, const LegRing& thigh, const LegRing& lower, doub
   fit_leg_depth(r, want);
 }
 
+// The legs lean out from the crotch (splay_legs()), and on narrow hips that carried the knee out
+// past the hip's line: from the front the thigh ran straight down from the hip and the knee stood
+// out beside it as a knob (by up to 2.1 cm on men of the development data). Where the lower
+// thigh's girth ring or the knee's would stand, once the legs lean, further out than the thigh's
+// girth ring, the leg from the lower thigh's ring down moves in toward the midline by as much, as
+// far as every one of its rings stays kLegMidlineGap clear of the midline (the calf's inner head
+// is the first to reach it): the knee comes under the hip and the foot stands that much closer.
+// `splay(y)`: how far splay_legs() will move the section at height y out.
+void keep_knee_under_hip(std::array<LegRing, kLegKeyCount>& L, const std::function<double(double)>& splay) {
+  auto out = [&](const LegRing& r) { return r.xc + r.al + splay(r.y); };
+  double shift = std::max(out(L[kLowerThigh]), out(L[kKnee])) - out(L[kThigh]);
+  for (int k = kLowerThigh; k < kLegKeyCount; ++k) {
+    const LegRing& r = L[static_cast<size_t>(k)];
+    shift = std::min(shift, r.xc - r.am - kLegMidlineGap);
+  }
+  if (shift <= 0) return;
+  for (int k = kLowerThigh; k < kLegKeyCount; ++k) L[static_cast<size_t>(k)].xc -= shift;
+}
+
 struct ArmRing {
   double x = 0, yc = 0, zc = 0, ry = 0.04, rz = 0.04, p = 2.2;
   // 0: columns at equal angles ψ (arm_angle); 1: at equal arc length within each quarter. The
@@ -1657,6 +1676,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     make(L[kCalf], d.calfc, 0.45 * L[kThigh].xc + 0.042 * sc, -0.006, 0.92, 0.25, 0.07);
     make(L[kAnkle], d.anklec, 0.42 * L[kThigh].xc + 0.04 * sc, -0.012, 1.05, 0);
     make(L[kMalleolus], d.anklec * 1.12, L[kAnkle].xc, -0.012, 0.95, 0);
+    keep_knee_under_hip(L, [&](double at) { return splay_offset(at, y_cr, y_ml, sc); });
     std::vector<double> y, xc, zc, al, am, bf, bb, pp, calf;
     for (int i = kLegKeyCount - 1; i >= 0; --i) {  // increasing y
       const LegRing& r = L[static_cast<size_t>(i)];
