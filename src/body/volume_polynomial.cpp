@@ -1,6 +1,5 @@
 #include "caliper/body/volume_polynomial.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <queue>
@@ -12,6 +11,15 @@
 namespace caliper {
 
 namespace {
+
+// Three-vectors as plain doubles for the per-face loops below (see add_lower_terms).
+using Vec3 = std::array<double, 3>;
+Vec3 row_of(const Vertices& v, Eigen::Index i) { return {v(i, 0), v(i, 1), v(i, 2)}; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // A face with corners a = μa + A·β, b = μb + B·β, c = μc + C·β (A, B, C: the corners' 3×K rows of
 // S) adds det(a, b, c) = a·(b × c) to six times the volume. Expanded by degree in β:
@@ -37,7 +45,10 @@ Eigen::MatrixXi pair_columns(Eigen::Index k) {  // column of the pair {l, m} (l 
 }
 
 // Degrees 0–2, face by face; for a block of faces the degree-2 vectors form two matrices and
-// their sums are matrix products.
+// their sums are matrix products. The per-face loops read S by pointer, with the cross products
+// written out: through Eigen's small-vector expressions they ran 40 times slower than the
+// Release build in the sanitizer build (every expression a call there, -O1), and the estimator
+// builds this polynomial once in every process (docs/reliability.md "CI time").
 void add_lower_terms(const BodyModelData& d, const Eigen::MatrixXd& st, SixVolumeTerms& t) {
   const Vertices& mu = d.template_vertices;
   const Eigen::Index k = st.rows();
@@ -49,16 +60,24 @@ void add_lower_terms(const BodyModelData& d, const Eigen::MatrixXd& st, SixVolum
     const Eigen::Index nb = std::min(kBlock, d.faces.rows() - f0);
     for (Eigen::Index i = 0; i < nb; ++i) {
       const Eigen::Index ia = d.faces(f0 + i, 0), ib = d.faces(f0 + i, 1), ic = d.faces(f0 + i, 2);
-      const Eigen::Vector3d ma = mu.row(ia).transpose(), mb = mu.row(ib).transpose(), mc = mu.row(ic).transpose();
-      const auto sa = st.middleCols(3 * ia, 3), sb = st.middleCols(3 * ib, 3), sc = st.middleCols(3 * ic, 3);  // K×3
-      t.c0 += ma.dot(mb.cross(mc));
-      t.c1.noalias() += sa * mb.cross(mc) + sb * mc.cross(ma) + sc * ma.cross(mb);
-      a_rows.middleRows(3 * i, 3) = sa.transpose();
-      b_rows.middleRows(3 * i, 3) = sb.transpose();
+      const Vec3 ma = row_of(mu, ia), mb = row_of(mu, ib), mc = row_of(mu, ic);
+      const double* sa = st.data() + 3 * ia * k;  // the corner's K×3 block of Sᵀ: column j at j·K
+      const double* sb = st.data() + 3 * ib * k;
+      const double* sc = st.data() + 3 * ic * k;
+      const Vec3 bc = cross(mb, mc), ca = cross(mc, ma), ab = cross(ma, mb);
+      t.c0 += dot(ma, bc);
       for (Eigen::Index l = 0; l < k; ++l) {
-        const Eigen::Vector3d bl = sb.row(l).transpose(), cl = sc.row(l).transpose();
-        y.block<3, 1>(3 * i, l) = bl.cross(mc) + mb.cross(cl);
-        z.block<3, 1>(3 * i, l) = cl.cross(ma);
+        const Vec3 al = {sa[l], sa[k + l], sa[2 * k + l]}, bl = {sb[l], sb[k + l], sb[2 * k + l]},
+                   cl = {sc[l], sc[k + l], sc[2 * k + l]};
+        t.c1[l] += dot(al, bc) + dot(bl, ca) + dot(cl, ab);
+        const Vec3 yl = add(cross(bl, mc), cross(mb, cl)), zl = cross(cl, ma);
+        const Eigen::Index at = 3 * i + l * 3 * kBlock;  // (3i + j, l) in the column-major blocks
+        for (int j = 0; j < 3; ++j) {
+          a_rows.data()[at + j] = al[j];
+          b_rows.data()[at + j] = bl[j];
+          y.data()[at + j] = yl[j];
+          z.data()[at + j] = zl[j];
+        }
       }
     }
     const Eigen::Index rows = 3 * nb;
@@ -102,7 +121,7 @@ std::vector<int> owner_corners(const Faces& faces, Eigen::Index vertex_count) {
 // Σ_i S_vi,k · W_vi,lm, where (B β × C β)_i = βᵀ W_vi β sums B_jᵀC_k − B_kᵀC_j over v's faces ((i, j, k)
 // cyclic). The K×K matrices W are summed per owner, and the products with the owners' rows of S
 // are one matrix product per block of owners.
-void add_cubic_terms(const BodyModelData& d, const Eigen::MatrixXd& st, const Eigen::MatrixXi& pair, SixVolumeTerms& t) {
+void add_cubic_terms(const BodyModelData& d, const Eigen::MatrixXd& st, SixVolumeTerms& t) {
   const Eigen::Index k = st.rows(), pairs = k * (k + 1) / 2;
   const std::vector<int> corner = owner_corners(d.faces, d.template_vertices.rows());
   std::vector<std::vector<Eigen::Index>> owned(static_cast<size_t>(d.template_vertices.rows()));
@@ -122,21 +141,24 @@ void add_cubic_terms(const BodyModelData& d, const Eigen::MatrixXd& st, const Ei
     for (auto& wi : w) wi.setZero(k, k);
     for (const Eigen::Index f : owned[v]) {
       const int first = corner[static_cast<size_t>(f)];
-      const auto sb = st.middleCols(3 * static_cast<Eigen::Index>(d.faces(f, (first + 1) % 3)), 3);
-      const auto sc = st.middleCols(3 * static_cast<Eigen::Index>(d.faces(f, (first + 2) % 3)), 3);
-      for (int i = 0; i < 3; ++i) {
-        const int j = (i + 1) % 3, l = (i + 2) % 3;
-        Eigen::MatrixXd& wi = w[static_cast<size_t>(i)];
-        wi.noalias() += sb.col(j) * sc.col(l).transpose();  // two statements: no temporary
-        wi.noalias() -= sb.col(l) * sc.col(j).transpose();
+      const double* sb = st.data() + 3 * static_cast<Eigen::Index>(d.faces(f, (first + 1) % 3)) * k;
+      const double* sc = st.data() + 3 * static_cast<Eigen::Index>(d.faces(f, (first + 2) % 3)) * k;
+      for (int i = 0; i < 3; ++i) {  // W_i += B_j C_lᵀ − B_l C_jᵀ, column-major: (p, q) at p + K·q
+        const double *bj = sb + ((i + 1) % 3) * k, *bl = sb + ((i + 2) % 3) * k;
+        const double *cj = sc + ((i + 1) % 3) * k, *cl = sc + ((i + 2) % 3) * k;
+        double* wi = w[static_cast<size_t>(i)].data();
+        for (Eigen::Index q = 0; q < k; ++q)
+          for (Eigen::Index p = 0; p < k; ++p) wi[p + k * q] += bj[p] * cl[q] - bl[p] * cj[q];
       }
     }
     for (int i = 0; i < 3; ++i) {
       const Eigen::Index row = 3 * in_block + i;
-      a_rows.row(row) = st.col(3 * static_cast<Eigen::Index>(v) + i).transpose();
-      const Eigen::MatrixXd& wi = w[static_cast<size_t>(i)];
-      for (Eigen::Index l = 0; l < k; ++l)
-        for (Eigen::Index m = l; m < k; ++m) w_pairs(pair(l, m), row) = wi(l, m) + wi(m, l);
+      const double* s_vi = st.data() + (3 * static_cast<Eigen::Index>(v) + i) * k;
+      for (Eigen::Index l = 0; l < k; ++l) a_rows(row, l) = s_vi[l];
+      const double* wi = w[static_cast<size_t>(i)].data();
+      double* column = w_pairs.data() + row * pairs;
+      for (Eigen::Index l = 0, p = 0; l < k; ++l)  // pairs in pair_columns()' order
+        for (Eigen::Index m = l; m < k; ++m, ++p) column[p] = wi[l + k * m] + wi[m + k * l];
     }
     if (++in_block == kBlock) flush();
   }
@@ -150,7 +172,7 @@ VolumePolynomial::VolumePolynomial(const BodyModel& model) {
   const Eigen::MatrixXd st = model.data().shape_directions.transpose();  // K×3N
   const Eigen::MatrixXi pair = pair_columns(st.rows());
   add_lower_terms(model.data(), st, t);
-  add_cubic_terms(model.data(), st, pair, t);
+  add_cubic_terms(model.data(), st, t);
   // Six times the volume above. Symmetrised: the quadratic is (c2 + c2ᵀ)/2; the cubic term of
   // (k, l, m) is the mean of its six orders, (c3(k, {l, m}) + c3(l, {k, m}) + c3(m, {k, l}))/6.
   // The gradient is then c1 + 2·c2·β + 3·c3(β, β, ·).
