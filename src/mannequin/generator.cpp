@@ -112,7 +112,7 @@ constexpr std::array<int, kTorsoKeyCount - 1> kTorsoIntervals = {2, 3, 8, 1, 6, 
 // superellipse of exponent kChestP, so it rounds into the sides instead of standing as a flat
 // panel; the back may square up to kChestBackP and then flare behind the sides by up to
 // kChestFlareMax of the half-breadth before the ring has to grow.
-constexpr double kChestP = 3.5, kChestBackP = 8.0, kChestFlareMax = 0.4;
+constexpr double kChestP = 3.5, kChestBackP = 6.5, kChestFlareMax = 0.55;
 // The jaw's lower border rises from the chin to the angle of the jaw: the chin ring's sides are
 // lifted by this share of the face's height (glabella to chin), the mouth ring's by 40 % of it, so
 // from the front the jaw is a U meeting the neck below its angles, not a level shelf.
@@ -336,17 +336,21 @@ struct TorsoRing {
   double cleft = 0;                                // the buttocks' cleft at the back's midline: depth (m)
   double nose = 0, chin = 0;                       // face bumps (m)
   double front_taper = 0;  // the front half narrows by this share toward the midline (x × (1 − taper·cos²))
-  // The back half: how much its exponent exceeds p (squarer), and how much wider it grows just
-  // behind the sides (x × (1 + flare·w), w rising from 0 at the side to 1 at cos = −kFlareRise):
-  // the latissimus and the shoulder blades, which make a man's chest wider at the back than
-  // across the front.
+  // The back half: how much its exponent exceeds p (squarer), and how much wider it grows behind
+  // the sides (x × (1 + flare·w), w rising smoothly from 0 at kFlareFrom of the back's depth to 1
+  // at kFlareRise): the latissimus and the shoulder blades, which make a man's chest wider at the
+  // back than across the front. Spread over most of the back's depth the widening slants the side
+  // out; rising over its last fifth (until 2026-12-07) it stood behind the side as a step. From
+  // the side itself (0) it folded the chest ring against the capped axilla ring just above it, up
+  // to 120° on men whose armpit is at their chest's height.
   double back_squareness = 0, flare = 0;
 };
-constexpr double kFlareRise = 0.45;
+constexpr double kFlareFrom = 0.25, kFlareRise = 0.95;
 
 Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
   const double s = std::sin(t), c = std::cos(t), e = 2.0 / (c < 0 ? r.p + r.back_squareness : r.p);
-  double x = r.a * spow(s, e) * (c > 0 ? 1 - r.front_taper * c * c : 1 + r.flare * smoothstep(0.0, kFlareRise, -c));
+  // The flare's weight follows the depth behind the side (|z − cz| / db = |c|^e).
+  double x = r.a * spow(s, e) * (c > 0 ? 1 - r.front_taper * c * c : 1 + r.flare * smoothstep(kFlareFrom, kFlareRise, std::pow(-c, e)));
   double z = r.cz + (c >= 0 ? r.df : r.db) * spow(c, e);
   double tt = std::remainder(t, 2 * kPi);  // (−π, π]
   const double at = std::abs(tt);
@@ -519,6 +523,23 @@ TorsoRing dome_ring(const TorsoRing& glabella, double vertex_y, double hs, doubl
   r.db *= rounded * (1 - 0.03 * (1 - c));  // the back flattens gradually: no step at the glabella ring
   r.cz = glabella.cz - 0.012 * hs * (1 - c);
   return r;
+}
+
+// Lowers the ring's flare (bisection) until the ring reaches no further out than half_width;
+// flare = 0 where even that does not.
+void cap_flare(TorsoRing& r, double half_width) {
+  auto reach = [&](double flare) {
+    TorsoRing trial = r;
+    trial.flare = flare;
+    double x = 0;
+    for (const auto& q : torso_polygon(trial)) x = std::max(x, std::abs(q.x()));
+    return x;
+  };
+  if (reach(r.flare) <= half_width) return;
+  double lo = 0, hi = r.flare;
+  if (reach(lo) > half_width) { r.flare = 0; return; }
+  for (int it = 0; it < 30; ++it) (reach(0.5 * (lo + hi)) <= half_width ? lo : hi) = 0.5 * (lo + hi);
+  r.flare = lo;
 }
 
 // How a ring too small for its circumference grows (the circumference is always kept).
@@ -1317,7 +1338,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     // Under the arm the back stays flared, but within 2.5 cm of the acromion: the arm's root
     // follows the armpit hole's rim out, and the biacromial breadth is exact only while it stays
     // inside the acromion.
-    r.flare = std::min(r.flare, std::max(0.0, (d.biac / 2 - 0.025 * sc) / r.a - 1));
+    cap_flare(r, d.biac / 2 - 0.025 * sc);
     K[kAxilla] = r;
     K[kArmpit].y = y_ap;  // a level only: its ring takes the profile's shape
     r.y = y_acr;
