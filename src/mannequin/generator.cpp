@@ -340,9 +340,9 @@ struct TorsoRing {
   // the sides (x × (1 + flare·w), w rising smoothly from 0 at kFlareFrom of the back's depth to 1
   // at kFlareRise): the latissimus and the shoulder blades, which make a man's chest wider at the
   // back than across the front. Spread over most of the back's depth the widening slants the side
-  // out; rising over its last fifth (until 2026-12-07) it stood behind the side as a step. From
-  // the side itself (0) it folded the chest ring against the capped axilla ring just above it, up
-  // to 120° on men whose armpit is at their chest's height.
+  // out; until 2026-12-07 it rose mostly between 55 and 80 % of the depth and stood behind the
+  // side as a step. Starting the rise at the side itself (tried) folded the chest ring against the
+  // capped axilla ring just above it, up to 127° on men whose armpit is at their chest's height.
   double back_squareness = 0, flare = 0;
 };
 constexpr double kFlareFrom = 0.25, kFlareRise = 0.95;
@@ -350,7 +350,8 @@ constexpr double kFlareFrom = 0.25, kFlareRise = 0.95;
 Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
   const double s = std::sin(t), c = std::cos(t), e = 2.0 / (c < 0 ? r.p + r.back_squareness : r.p);
   // The flare's weight follows the depth behind the side (|z − cz| / db = |c|^e).
-  double x = r.a * spow(s, e) * (c > 0 ? 1 - r.front_taper * c * c : 1 + r.flare * smoothstep(kFlareFrom, kFlareRise, std::pow(-c, e)));
+  const double flare_weight = c < 0 ? smoothstep(kFlareFrom, kFlareRise, std::pow(-c, e)) : 0;
+  double x = r.a * spow(s, e) * (c > 0 ? 1 - r.front_taper * c * c : 1 + r.flare * flare_weight);
   double z = r.cz + (c >= 0 ? r.df : r.db) * spow(c, e);
   double tt = std::remainder(t, 2 * kPi);  // (−π, π]
   const double at = std::abs(tt);
@@ -537,8 +538,14 @@ void cap_flare(TorsoRing& r, double half_width) {
   };
   if (reach(r.flare) <= half_width) return;
   double lo = 0, hi = r.flare;
-  if (reach(lo) > half_width) { r.flare = 0; return; }
-  for (int it = 0; it < 30; ++it) (reach(0.5 * (lo + hi)) <= half_width ? lo : hi) = 0.5 * (lo + hi);
+  if (reach(lo) > half_width) {
+    r.flare = 0;
+    return;
+  }
+  for (int it = 0; it < 30; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (reach(mid) <= half_width ? lo : hi) = mid;
+  }
   r.flare = lo;
 }
 
@@ -547,7 +554,8 @@ enum class Growth { Depth, BreadthAndDepth };
 
 // The profiles a ring may take to reach its circumference, in the order they are tried: the
 // exponent p from p_min up to p_max; then (the chest) the back half squarer, up to p_back_max,
-// and wider just behind the sides, by up to flare_max; then it grows (`growth`).
+// and wider behind the sides (over most of the back's depth), by up to flare_max; then it grows
+// (`growth`).
 struct RingFit {
   double p_min = 1.7, p_max = 4.5;
   Growth growth = Growth::Depth;
