@@ -14,7 +14,8 @@ namespace caliper {
 class VolumePolynomial {
  public:
   // O(F·K² + V·K³) for F faces and the V vertices that own them (about half of all): about
-  // 70 ms for the built-in body (33k faces, K = 20) on one core (docs/performance.md). Memory O(K³): keep K to a few dozen.
+  // 70 ms for the built-in body (33k faces, K = 20) on one core (docs/performance.md).
+  // Memory O(K³): keep K to a few dozen.
   explicit VolumePolynomial(const BodyModel& model);
 
   int shape_count() const { return static_cast<int>(linear_.size()); }
