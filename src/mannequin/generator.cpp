@@ -163,6 +163,10 @@ constexpr double kCleftDepth = 0.035, kCleftWidth = 0.024;
 // the hip ring: full, then rounding under.
 constexpr double kThighForward = 0.08;
 constexpr double kSeatRoundUnder = 3.0;
+// The gluteal fold's line (add_back_relief()): lowest kFoldDrop cm (per 1.70 m) under ANSUR's
+// furrow height at kFoldLowest of the way out to the thigh's outer side, rising as the square by
+// kFoldRiseMedial cm to the midline and kFoldRiseLateral cm to the thigh's outer side.
+constexpr double kFoldLowest = 0.45, kFoldDrop = 1.0, kFoldRiseMedial = 1.2, kFoldRiseLateral = 2.0;
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 constexpr double kOcciputMaxBend = 20;  // plan_body(): the bound on the nape-to-occiput quintic's ends
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
@@ -347,6 +351,11 @@ struct TorsoRing {
 };
 constexpr double kFlareFrom = 0.25, kFlareRise = 0.95;
 
+// The buttock cheeks' bump's shape around the ring: 1 at kCheekAngle from the back's midline,
+// falling off over kCheekWidth (rad) either side. at = |t| in (−π, π].
+constexpr double kCheekAngle = 0.62, kCheekWidth = 0.42;
+double glute_bump(double at) { return std::exp(-sq((at - (kPi - kCheekAngle)) / kCheekWidth)); }
+
 Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
   const double s = std::sin(t), c = std::cos(t), e = 2.0 / (c < 0 ? r.p + r.back_squareness : r.p);
   // The flare's weight follows the depth behind the side (|z − cz| / db = |c|^e).
@@ -361,7 +370,7 @@ Eigen::Vector2d torso_xz(const TorsoRing& r, double t) {
     z += r.bust * g;
     x += 0.25 * r.bust * g * (tt >= 0 ? 1 : -1);
   }
-  if (r.glute != 0) z -= r.glute * std::exp(-std::pow((at - (kPi - 0.62)) / 0.42, 2));
+  if (r.glute != 0) z -= r.glute * glute_bump(at);
   // The cleft between the buttocks: a groove along the back's midline, as wide in metres on every
   // ring (kCleftWidth), whatever the ring's breadth. Back half only: the front's midline is x = 0 too.
   if (r.cleft != 0 && c < 0) z += r.cleft * std::exp(-sq(x / kCleftWidth));
@@ -1278,7 +1287,9 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
     TorsoRing& r = K[kHip];
     r.y = y_hip;
     r.cz = 0.0;
-    r.glute = (0.010 + 0.010 * fem) * d.bd / 0.24;
+    // The cheeks' bumps (on a 24 cm buttock depth; 1 and 2 cm until 2026-12-07, when the ring's
+    // own squared corners drew the cheeks as two cushions from behind).
+    r.glute = (0.016 + 0.012 * fem) * d.bd / 0.24;
     // The cleft between the buttocks, solved with the ring: the cheeks beside it carry the depth,
     // and the hull (the tape) bridges it. The rings below down to the bottom ring keep it full.
     r.cleft = kCleftDepth * d.bd / 0.24;
@@ -1764,7 +1775,7 @@ BodyPlan plan_body(const Dims& d, Sex sex) {
       // of them: a thigh bulging out under the buttock reads as a band.
       {
         const double gap = (b.cz - b.db * cf) - (t.zc - t.bb) + 0.003;
-        const double bump = std::exp(-std::pow((kPi - t_thigh - (kPi - 0.62)) / 0.42, 2));
+        const double bump = glute_bump(kPi - t_thigh);
         b.glute = std::max(0.0, gap / bump);
       }
       // Rings between the bottom and the hip ring: the sides follow the hip outline. The front
@@ -3224,10 +3235,12 @@ void add_back_relief(const ReliefFrame& F, double x, double y, double back, doub
     const double ry = 0.45 * (F.y_us - F.y_w);
     h -= back * 0.35 * cm * blob(x, y - 0.5 * (F.y_w + F.y_us), 0.55 * F.a_ch, ry);
   }
-  // Gluteal fold: under each buttock over the back of the thigh, rising toward the midline.
+  // Gluteal fold: under each buttock over the back of the thigh, curving under the cheek (u: the
+  // share of the way out to the thigh's outer side). Falling toward the side, as until
+  // 2026-12-07, it ended each cheek in a level line with a corner at its outer end (two cushions).
   {
-    const double xe = F.thigh_out;
-    const double yf = F.y_gf - 1.5 * cm * sq(std::min(1.0, x / xe));
+    const double xe = F.thigh_out, u = std::min(1.0, x / xe), um = kFoldLowest;
+    const double yf = F.y_gf - kFoldDrop * cm + (u < um ? kFoldRiseMedial * sq((um - u) / um) : kFoldRiseLateral * sq((u - um) / (1 - um))) * cm;
     const double dy = y - yf;
     const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.0 * cm, 1);
     // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
