@@ -167,6 +167,7 @@ constexpr double kSeatRoundUnder = 3.0;
 // furrow height at kFoldLowest of the way out to the thigh's outer side, rising as the square by
 // kFoldRiseMedial cm to the midline and kFoldRiseLateral cm to the thigh's outer side.
 constexpr double kFoldLowest = 0.45, kFoldDrop = 1.0, kFoldRiseMedial = 1.2, kFoldRiseLateral = 2.0;
+static_assert(kFoldLowest > 0 && kFoldLowest < 1);
 constexpr int kDomeRings = 12;  // rings above the glabella ring before the pole
 constexpr double kOcciputMaxBend = 20;  // plan_body(): the bound on the nape-to-occiput quintic's ends
 constexpr double kFaceDensity = 3.5;  // extra column density across the face (respace_torso_columns)
@@ -352,7 +353,7 @@ struct TorsoRing {
 constexpr double kFlareFrom = 0.25, kFlareRise = 0.95;
 
 // The buttock cheeks' bump's shape around the ring: 1 at kCheekAngle from the back's midline,
-// falling off over kCheekWidth (rad) either side. at = |t| in (−π, π].
+// falling to 1/e kCheekWidth (rad) either side. at = |t|, t in (−π, π].
 constexpr double kCheekAngle = 0.62, kCheekWidth = 0.42;
 double glute_bump(double at) { return std::exp(-sq((at - (kPi - kCheekAngle)) / kCheekWidth)); }
 
@@ -3240,7 +3241,8 @@ void add_back_relief(const ReliefFrame& F, double x, double y, double back, doub
   // 2026-12-07, it ended each cheek in a level line with a corner at its outer end (two cushions).
   {
     const double xe = F.thigh_out, u = std::min(1.0, x / xe), um = kFoldLowest;
-    const double yf = F.y_gf - kFoldDrop * cm + (u < um ? kFoldRiseMedial * sq((um - u) / um) : kFoldRiseLateral * sq((u - um) / (1 - um))) * cm;
+    const double rise = u < um ? kFoldRiseMedial * sq((um - u) / um) : kFoldRiseLateral * sq((u - um) / (1 - um));
+    const double yf = F.y_gf - kFoldDrop * cm + rise * cm;
     const double dy = y - yf;
     const double prof = dy > 0 ? blob(dy, 0, 2.0 * cm, 1) : blob(dy, 0, 3.0 * cm, 1);
     // A seat that hangs down to the crotch leaves the fold no room: it fades out there.
