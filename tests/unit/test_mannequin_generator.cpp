@@ -7,6 +7,7 @@
 #include "caliper/body/crease.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -48,16 +49,26 @@ std::vector<std::pair<mq::Dimensions, Sex>> sample_bodies() {
 }
 
 
+// Where the plane y = h meets face i's edges: `add` gets each corner on the plane and each point
+// where an edge crosses it. The checks below cut the whole mesh dozens of times per body; reading
+// the coordinates through pointers (Vertices and Faces are row-major) keeps that cheap in the
+// sanitizer build, where every small Eigen copy is a call (the population test took 147 s there).
+template <class Add>
+void face_cuts(const Vertices& v, const Faces& f, Eigen::Index i, double h, Add&& add) {
+  static_assert(Vertices::IsRowMajor != 0 && Faces::IsRowMajor != 0);
+  const std::int32_t* corner = f.data() + 3 * i;
+  for (int c = 0; c < 3; ++c) {
+    const double *a = v.data() + 3 * corner[c], *b = v.data() + 3 * corner[(c + 1) % 3];
+    if (a[1] == h) add(Eigen::Vector3d(a[0], a[1], a[2]));
+    if ((a[1] - h) * (b[1] - h) >= 0) continue;
+    const double t = (h - a[1]) / (b[1] - a[1]);
+    add(Eigen::Vector3d(a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t, a[2] + (b[2] - a[2]) * t));
+  }
+}
 // Where the plane y = h cuts the mesh's edges.
 std::vector<Eigen::Vector3d> cut(const Vertices& v, const Faces& f, double h) {
   std::vector<Eigen::Vector3d> out;
-  for (Eigen::Index i = 0; i < f.rows(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::Vector3d a = v.row(f(i, c)).transpose(), b = v.row(f(i, (c + 1) % 3)).transpose();
-      if (a.y() == h) out.push_back(a);
-      if ((a.y() - h) * (b.y() - h) >= 0) continue;
-      out.push_back(a + (b - a) * ((h - a.y()) / (b.y() - a.y())));
-    }
+  for (Eigen::Index i = 0; i < f.rows(); ++i) face_cuts(v, f, i, h, [&out](const Eigen::Vector3d& p) { out.push_back(p); });
   return out;
 }
 // The extents of the section y = h within 15 cm of the midline (clear of the T-posed arms near the
@@ -84,13 +95,10 @@ double extreme_z(const std::vector<Eigen::Vector3d>& pts, double x0, double half
 double section_z_at(const Vertices& v, const Faces& f, double h, double x, int sign) {
   double best = -1e9;
   for (Eigen::Index i = 0; i < f.rows(); ++i) {
-    std::vector<Eigen::Vector3d> seg;
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::Vector3d a = v.row(f(i, c)).transpose(), b = v.row(f(i, (c + 1) % 3)).transpose();
-      if (a.y() == h) seg.push_back(a);
-      if ((a.y() - h) * (b.y() - h) < 0) seg.push_back(a + (b - a) * ((h - a.y()) / (b.y() - a.y())));
-    }
-    if (seg.size() != 2 || (seg[0].x() - x) * (seg[1].x() - x) > 0 || seg[0].x() == seg[1].x()) continue;
+    std::array<Eigen::Vector3d, 3> seg;  // a face meets the plane in at most three points
+    size_t n = 0;
+    face_cuts(v, f, i, h, [&](const Eigen::Vector3d& p) { seg[n++] = p; });
+    if (n != 2 || (seg[0].x() - x) * (seg[1].x() - x) > 0 || seg[0].x() == seg[1].x()) continue;
     best = std::max(best, sign * std::lerp(seg[0].z(), seg[1].z(), (x - seg[0].x()) / (seg[1].x() - seg[0].x())));
   }
   return sign * best;
